@@ -1,0 +1,30 @@
+// Raster images through OpenImageIO: reading inputs and writing re-renders.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "formats/registry.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+// Reads PNG, JPEG, TIFF, EXR, … (8/16-bit, half/float; grey, grey+alpha, RGB, RGBA) into
+// straight-alpha float RGBA, sRGB-encoded: linear inputs (EXR, float TIFF marked linear) are
+// encoded on read. Refuses images over maxPixels before allocating their pixels.
+RgbaImage readImage(const std::string& path, uint64_t maxPixels = uint64_t(64) << 20);
+
+// Writes by extension (.png .jpg .jpeg .tif .tiff .exr); linear formats (EXR) get decoded
+// values. Atomic: no partial file is left behind.
+void writeImage(const RgbaImage& image, const std::string& path);
+
+// Composites straight-alpha `image` over an RGBA background (alpha 0 leaves it unchanged).
+void compositeOver(RgbaImage& image, const std::array<float, 4>& background);
+
+// The raster "mesh format": writing renders the document (WriteOptions::rasterScale,
+// ::background); it cannot be read as a mesh.
+std::unique_ptr<MeshFormat> makeRasterFormat();
+
+}  // namespace gm

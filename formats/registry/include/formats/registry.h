@@ -1,0 +1,75 @@
+// The format registry: one reader/writer per format, found by name or file extension.
+// Nothing outside formats/builtin_formats.cpp names a format.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "meshcore/gradient_mesh.h"
+
+namespace gm {
+
+// Limits a reader enforces before it allocates; a caller may raise them.
+struct ReadLimits {
+    uint64_t maxFileBytes = uint64_t(1) << 30;   // 1 GiB
+    uint64_t maxNodesPerMesh = uint64_t(1) << 24; // 16 M nodes
+    uint64_t maxGridSide = uint64_t(1) << 16;     // columns or rows of one mesh
+    uint64_t maxSlitsPerMesh = uint64_t(1) << 16;
+    uint64_t maxMeshes = uint64_t(1) << 20;
+    uint64_t maxCanvasSide = uint64_t(1) << 20;   // pixels
+};
+
+struct ReadOptions {
+    ReadLimits limits;
+};
+
+struct WriteOptions {
+    bool compact = false;             // .gmb: quantised + compressed
+    bool legacy = false;              // write every mesh as its hole-free pieces
+    std::string svgColors = "exact";  // SVG: "exact" (k×k subdivision) or "editable" (bicubic)
+    double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
+    bool textShading = false;         // EPS/PDF: text DataSource instead of the binary stream
+    double rasterScale = 1.0;         // raster outputs: pixels per canvas pixel
+    std::array<float, 4> background = {0, 0, 0, 0};  // raster outputs: RGBA 0–1, alpha 0 = none
+};
+
+class MeshFormat {
+public:
+    virtual ~MeshFormat() = default;
+    virtual std::string name() const = 0;                     // e.g. "gmb"
+    virtual std::vector<std::string> extensions() const = 0;  // lower case, with dot: ".gmb"
+    virtual bool canRead() const { return false; }
+    virtual bool canWrite() const { return false; }
+    // A cheap check of the first bytes of a file (may be fewer than asked for).
+    virtual bool sniff(const std::string& /*head*/) const { return false; }
+    // Throw gm::Error naming the file on any problem. A writer never leaves a partial file at
+    // `path` (write to a temporary name beside it, then rename).
+    virtual Document read(const std::string& path, const ReadOptions& options) const;
+    virtual void write(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const;
+};
+
+class FormatRegistry {
+public:
+    // The registry with every built-in format (formats/builtin_formats.cpp).
+    static const FormatRegistry& builtin();
+
+    void add(std::unique_ptr<MeshFormat> format);
+    const MeshFormat* byName(const std::string& name) const;
+    // By extension of `path` (case-insensitive); nullptr when none.
+    const MeshFormat* forPath(const std::string& path) const;
+    // By extension, confirmed by sniffing the file's first bytes when the file exists.
+    const MeshFormat* forReading(const std::string& path) const;
+    std::vector<const MeshFormat*> all() const;
+
+private:
+    std::vector<std::unique_ptr<MeshFormat>> formats_;
+};
+
+// Lower-cased extension of a path including the dot ("" when none).
+std::string lowerExtension(const std::string& path);
+
+}  // namespace gm

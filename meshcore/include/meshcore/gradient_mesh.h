@@ -1,0 +1,134 @@
+// The topology-preserving gradient mesh (DESIGN.md §2, paper §3).
+//
+// Conventions, stated once here:
+//  - Positions are in pixels of the canvas, x to the right, y DOWN.
+//  - Colours are sRGB-encoded values in 0–1 (not linear light): the renderers of SVG, PostScript
+//    and PDF interpolate mesh colours in that space.
+//  - The parameter domain is a rectangle [u_0,u_C] x [v_0,v_R]. Column index i runs along u,
+//    row index j runs along v. Row j is the grid line v = v_j; "above" a row means smaller v
+//    (patch row j-1), "below" means larger v (patch row j).
+//  - Node derivatives are with respect to the GLOBAL parameters u, v. Patch (i,j) spans
+//    [u_i,u_{i+1}] x [v_j,v_{j+1}] and uses them scaled by its own interval lengths, so that
+//    inserting a knot never changes the meaning of neighbouring patches. Twists are zero.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace gm {
+
+struct Vec2 {
+    double x = 0, y = 0;
+};
+inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+inline Vec2 operator-(Vec2 a) { return {-a.x, -a.y}; }
+inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
+inline Vec2 operator*(Vec2 a, double s) { return {s * a.x, s * a.y}; }
+inline bool operator==(Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }
+inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+inline double norm(Vec2 a) { return std::sqrt(dot(a, a)); }
+
+// A colour (r, g, b), sRGB-encoded 0–1, or a colour derivative.
+struct Vec3 {
+    double r = 0, g = 0, b = 0;
+    double operator[](int k) const { return k == 0 ? r : (k == 1 ? g : b); }
+    double& operator[](int k) { return k == 0 ? r : (k == 1 ? g : b); }
+};
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.r - b.r, a.g - b.g, a.b - b.b}; }
+inline Vec3 operator-(Vec3 a) { return {-a.r, -a.g, -a.b}; }
+inline Vec3 operator*(double s, Vec3 a) { return {s * a.r, s * a.g, s * a.b}; }
+inline Vec3 operator*(Vec3 a, double s) { return {s * a.r, s * a.g, s * a.b}; }
+inline bool operator==(Vec3 a, Vec3 b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
+
+// Everything stored at a grid node: value and first derivatives w.r.t. global u and v.
+struct Node {
+    Vec2 pos, posU, posV;  // pixels; pixels per unit of u / v
+    Vec3 col, colU, colV;  // sRGB 0–1; per unit of u / v
+};
+inline bool operator==(const Node& a, const Node& b) {
+    return a.pos == b.pos && a.posU == b.posU && a.posV == b.posV && a.col == b.col &&
+           a.colU == b.colU && a.colV == b.colV;
+}
+
+// A u-derivative used at one slit end by the patch on the slit side ABOVE the row; the patch
+// below the row uses its negation (the ±d rule of paper §3), so the hole outline passes
+// smoothly through the slit end.
+struct SlitEnd {
+    Vec2 posU;
+    Vec3 colU;
+};
+
+// A hole: grid row `row` is cut open from column `i0` to column `i1` (0 < i0 < i1 < C,
+// 0 < row < R). Nodes strictly between i0 and i1 exist twice: the mesh's node array holds the
+// copy used by the patches above the row; `below[k]` is the copy of column i0+1+k used by the
+// patches below. End nodes i0 and i1 are shared, except for their u-derivative on the slit side.
+struct Slit {
+    int row = 0, i0 = 0, i1 = 0;
+    std::vector<Node> below;  // size i1 - i0 - 1
+    SlitEnd left, right;      // at column i0 and i1 (the above-side derivative)
+};
+
+// A break in the u-derivative at one corner of one patch: that patch uses posU/colU instead of
+// the node's. Hole-free legacy pieces cut from a slit mesh need these where a slit ended on
+// their boundary row (the kink between the outline and the former slit side); elsewhere there
+// are none.
+struct CornerTangent {
+    int i = 0, j = 0;  // the patch
+    int a = 0, b = 0;  // its corner: a = 0 at u_i, 1 at u_{i+1}; b = 0 at v_j, 1 at v_{j+1}
+    Vec2 posU;
+    Vec3 colU;
+};
+
+class GradientMesh {
+public:
+    GradientMesh() = default;
+    // A C x R patch grid with uniform knots 0..C and 0..R and zeroed nodes.
+    GradientMesh(int columns, int rows);
+
+    int columns() const { return static_cast<int>(u.size()) - 1; }  // C: patches along u
+    int rows() const { return static_cast<int>(v.size()) - 1; }     // R: patches along v
+    int patchCount() const { return columns() * rows(); }
+    int holeCount() const { return static_cast<int>(slits.size()); }
+
+    // The node at column i (0..C), row j (0..R): for slit interiors, the copy above the row.
+    Node& node(int i, int j) { return nodes[static_cast<size_t>(j) * (columns() + 1) + i]; }
+    const Node& node(int i, int j) const {
+        return nodes[static_cast<size_t>(j) * (columns() + 1) + i];
+    }
+
+    std::vector<double> u, v;            // knots, strictly increasing: C+1 and R+1 values
+    std::vector<Node> nodes;             // (C+1)(R+1), row-major: index j*(C+1)+i
+    std::vector<Slit> slits;             // holes
+    std::vector<CornerTangent> tangents;  // u-derivative breaks (legacy pieces only)
+};
+
+bool operator==(const Slit& a, const Slit& b);
+bool operator==(const CornerTangent& a, const CornerTangent& b);
+bool operator==(const GradientMesh& a, const GradientMesh& b);
+
+// Several meshes on a canvas; painted in order.
+struct Document {
+    int width = 0, height = 0;  // canvas, pixels
+    std::vector<GradientMesh> meshes;
+};
+bool operator==(const Document& a, const Document& b);
+
+// The Hermite data of one patch in its local parameters s, t ∈ [0,1]: corner[a][b] is at
+// s = a, t = b; derivatives are already scaled by the patch's Δu, Δv. This is what every
+// consumer (evaluation, rendering, Bézier conversion, writers) works from.
+struct HermiteCorner {
+    Vec2 pos, posS, posT;
+    Vec3 col, colS, colT;
+};
+struct PatchHermite {
+    HermiteCorner corner[2][2];
+};
+
+// Resolves node copies at slits, slit-end ±d tangents and corner tangent breaks.
+PatchHermite patchHermite(const GradientMesh& mesh, int i, int j);
+
+}  // namespace gm

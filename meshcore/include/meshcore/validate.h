@@ -1,0 +1,19 @@
+// Invariants of a GradientMesh / Document, checked on data that came from outside.
+#pragma once
+
+#include <string>
+
+#include "meshcore/gradient_mesh.h"
+
+namespace gm {
+
+// Returns an empty string when the mesh is valid, else a one-line description of the first
+// problem found: knots not strictly increasing, node count mismatch, slit outside the grid or
+// not interior, slits touching on a row, wrong number of split nodes, tangent break on a
+// patch that does not exist, a non-finite number anywhere.
+std::string validateMesh(const GradientMesh& mesh);
+
+// As above for every mesh, plus a positive canvas size; the message names the mesh.
+std::string validateDocument(const Document& doc);
+
+}  // namespace gm
