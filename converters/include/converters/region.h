@@ -10,8 +10,8 @@
 namespace gm {
 
 // A simple closed polygon; the last point joins the first (not repeated).
-// Outer loops run anticlockwise as seen on screen with y down, i.e. with positive signed area
-// Σ (x_k y_{k+1} − x_{k+1} y_k)/2 < 0 in y-down coordinates... see polygonSignedArea.
+// Orientation: outer loops have polygonSignedArea > 0 (clockwise as seen on screen, y down),
+// hole loops < 0.
 struct Polygon {
     std::vector<Vec2> points;
 };
