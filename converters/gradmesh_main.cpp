@@ -1,0 +1,349 @@
+// The `gradmesh` command. Only this layer turns errors into messages and exit codes:
+// 0 success, 1 a failure with the input or output, 2 a usage error.
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "formats/raster.h"
+#include "formats/registry.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+#include "meshcore/split_legacy.h"
+#include "meshcore/synthetic_meshes.h"
+#include "meshcore/validate.h"
+
+namespace {
+
+using gm::Error;
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+const char* kMainHelp =
+    "gradmesh — raster images to topology-preserving gradient meshes\n"
+    "\n"
+    "usage: gradmesh <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  convert IN -o OUT     convert a mesh file to another format (.gmb .svg .eps .pdf .png ...)\n"
+    "  render IN -o OUT.png  re-render a mesh file as a raster image\n"
+    "  info IN               meshes, grid sizes, holes, patches, bytes\n"
+    "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
+    "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
+    "\n"
+    "`gradmesh <command> --help` describes each command.\n";
+
+const std::map<std::string, std::string> kHelp = {
+    {"convert",
+     "usage: gradmesh convert IN -o OUT [options]\n"
+     "  Reads IN (by content and extension) and writes OUT in the format of its extension.\n"
+     "  -o, --output PATH       output file (required; never the input)\n"
+     "  --compact               .gmb: quantised, compressed (positions within 1/64 px)\n"
+     "  --legacy                write every mesh with holes as its hole-free pieces\n"
+     "  --svg-colors MODE       SVG: exact (default, subdivided) or editable (bicubic)\n"
+     "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 0.5)\n"
+     "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
+     "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
+     "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"},
+    {"render",
+     "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR]\n"
+     "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline).\n"
+     "  -o, --output PATH       .png .jpg .tif .exr\n"
+     "  --scale S               output pixels per canvas pixel (default 1)\n"
+     "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"},
+    {"info",
+     "usage: gradmesh info IN\n"
+     "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
+    {"compare",
+     "usage: gradmesh compare A B [--mask M]\n"
+     "  Error of image B against image A over the pixels where the mask is white (default:\n"
+     "  where A is opaque), in 0-255 units: E (mean absolute error per channel), RMSE, PSNR,\n"
+     "  max, and the fraction of those pixels that B leaves uncovered.\n"},
+    {"sample",
+     "usage: gradmesh sample OUT\n"
+     "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
+     "  in the format of OUT's extension.\n"},
+};
+
+struct Args {
+    std::vector<std::string> positional;
+    std::map<std::string, std::string> values;
+    std::set<std::string> flags;
+};
+
+Args parseArgs(const std::string& command, int argc, char** argv, const std::set<std::string>& valued,
+               const std::set<std::string>& flagNames) {
+    Args a;
+    for (int k = 2; k < argc; ++k) {
+        std::string s = argv[k];
+        if (s == "-o") s = "--output";
+        if (s.size() > 1 && s[0] == '-' && !(s.size() > 1 && (std::isdigit(static_cast<unsigned char>(s[1])) || s[1] == '.'))) {
+            std::string value;
+            const size_t eq = s.find('=');
+            bool hasValue = false;
+            if (eq != std::string::npos) {
+                value = s.substr(eq + 1);
+                s = s.substr(0, eq);
+                hasValue = true;
+            }
+            if (valued.count(s)) {
+                if (!hasValue) {
+                    if (k + 1 >= argc) throw UsageError(s + " needs a value");
+                    value = argv[++k];
+                }
+                a.values[s] = value;
+            } else if (flagNames.count(s) && !hasValue) {
+                a.flags.insert(s);
+            } else {
+                throw UsageError("unknown option '" + s + "' for '" + command + "'");
+            }
+        } else {
+            a.positional.push_back(s);
+        }
+    }
+    return a;
+}
+
+double parseNumber(const std::string& option, const std::string& text, double lo, double hi) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
+        throw UsageError(option + " expects a number from " + std::to_string(lo).substr(0, 8) +
+                         " to " + std::to_string(hi).substr(0, 8) + ", got '" + text + "'");
+    return v;
+}
+
+std::array<float, 4> parseColor(const std::string& text) {
+    if (text == "none" || text == "transparent") return {0, 0, 0, 0};
+    if (text == "white") return {1, 1, 1, 1};
+    if (text == "black") return {0, 0, 0, 1};
+    if ((text.size() == 7 || text.size() == 9) && text[0] == '#' &&
+        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
+        std::array<float, 4> c = {0, 0, 0, 1};
+        for (size_t k = 0; k * 2 + 1 < text.size(); ++k)
+            c[k] = std::stoi(text.substr(1 + 2 * k, 2), nullptr, 16) / 255.f;
+        return c;
+    }
+    throw UsageError("--background expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
+}
+
+void requireInputFile(const std::string& path) {
+    struct stat st {};
+    if (stat(path.c_str(), &st) != 0) throw Error("no such file", path);
+    if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
+}
+
+// Refuses an output that is the input (same file, whatever the spelling).
+void requireDistinct(const std::string& in, const std::string& out) {
+    std::error_code ec;
+    if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(in, out, ec))
+        throw Error("output is the input file; refusing to overwrite it", out);
+}
+
+const gm::MeshFormat* readerFor(const std::string& path) {
+    const gm::MeshFormat* f = gm::FormatRegistry::builtin().forReading(path);
+    if (!f || !f->canRead()) {
+        throw Error(f ? "cannot read meshes from " + f->name() + " files" : "unknown file type '" + gm::lowerExtension(path) + "'", path);
+    }
+    return f;
+}
+
+const gm::MeshFormat* writerFor(const std::string& path) {
+    const gm::MeshFormat* f = gm::FormatRegistry::builtin().forPath(path);
+    if (!f || !f->canWrite()) {
+        std::string known;
+        for (const gm::MeshFormat* g : gm::FormatRegistry::builtin().all())
+            if (g->canWrite())
+                for (const std::string& e : g->extensions()) known += (known.empty() ? "" : " ") + e;
+        throw Error("cannot write '" + gm::lowerExtension(path) + "' files (known: " + known + ")", path);
+    }
+    return f;
+}
+
+gm::Document readDocument(const std::string& path) {
+    requireInputFile(path);
+    gm::Document doc = readerFor(path)->read(path, gm::ReadOptions{});
+    if (std::string e = gm::validateDocument(doc); !e.empty()) throw Error("invalid mesh: " + e, path);
+    return doc;
+}
+
+std::string requireOutput(const Args& a) {
+    auto it = a.values.find("--output");
+    if (it == a.values.end() || it->second.empty()) throw UsageError("missing -o OUTPUT");
+    return it->second;
+}
+
+int cmdConvert(const Args& a, bool renderOnly) {
+    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
+    const std::string in = a.positional[0];
+    const std::string out = requireOutput(a);
+    gm::WriteOptions wo;
+    wo.compact = a.flags.count("--compact") > 0;
+    wo.legacy = a.flags.count("--legacy") > 0;
+    wo.textShading = a.flags.count("--text-shading") > 0;
+    if (auto it = a.values.find("--svg-colors"); it != a.values.end()) {
+        if (it->second != "exact" && it->second != "editable")
+            throw UsageError("--svg-colors expects exact or editable, got '" + it->second + "'");
+        wo.svgColors = it->second;
+    }
+    if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
+        wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
+    if (auto it = a.values.find("--scale"); it != a.values.end())
+        wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
+    if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
+
+    const gm::MeshFormat* writer = writerFor(out);
+    if (renderOnly && writer->name() != "raster")
+        throw UsageError("render writes raster images (.png .jpg .tif .exr); use convert for '" +
+                         gm::lowerExtension(out) + "'");
+    requireInputFile(in);
+    requireDistinct(in, out);
+    const gm::Document doc = readDocument(in);
+    const double pixels = doc.width * wo.rasterScale * doc.height * wo.rasterScale;
+    if (writer->name() == "raster" && pixels > 1.0e9)
+        throw Error("output would be " + std::to_string(static_cast<long long>(pixels)) +
+                        " pixels; lower --scale", out);
+    writer->write(doc, out, wo);
+    return 0;
+}
+
+int cmdInfo(const Args& a) {
+    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
+    const std::string in = a.positional[0];
+    const gm::Document doc = readDocument(in);
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(in, ec);
+    int patches = 0, holes = 0, pieces = 0;
+    for (const gm::GradientMesh& m : doc.meshes) {
+        patches += m.patchCount();
+        holes += m.holeCount();
+        pieces += gm::legacyPieceCount(m);
+    }
+    std::printf("file: %s\nformat: %s\nbytes: %llu\ncanvas: %d x %d\nmeshes: %zu\npatches: %d\n"
+                "holes: %d\nlegacy pieces: %d\n",
+                in.c_str(), readerFor(in)->name().c_str(), static_cast<unsigned long long>(bytes),
+                doc.width, doc.height, doc.meshes.size(), patches, holes, pieces);
+    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+        const gm::GradientMesh& m = doc.meshes[k];
+        std::printf("mesh %zu: grid %d x %d, %d patches, %d holes, %d legacy pieces", k,
+                    m.columns(), m.rows(), m.patchCount(), m.holeCount(), gm::legacyPieceCount(m));
+        if (!m.tangents.empty()) std::printf(", %zu tangent breaks", m.tangents.size());
+        std::printf("\n");
+    }
+    return 0;
+}
+
+int cmdCompare(const Args& a) {
+    if (a.positional.size() != 2) throw UsageError("expects two images A B");
+    for (const auto& p : a.positional) requireInputFile(p);
+    const gm::RgbaImage A = gm::readImage(a.positional[0]);
+    const gm::RgbaImage B = gm::readImage(a.positional[1]);
+    if (A.width != B.width || A.height != B.height)
+        throw Error("size " + std::to_string(B.width) + "x" + std::to_string(B.height) +
+                        " differs from " + std::to_string(A.width) + "x" + std::to_string(A.height) +
+                        " of " + a.positional[0],
+                    a.positional[1]);
+    gm::RgbaImage M;
+    const bool hasMask = a.values.count("--mask") > 0;
+    if (hasMask) {
+        const std::string mp = a.values.at("--mask");
+        requireInputFile(mp);
+        M = gm::readImage(mp);
+        if (M.width != A.width || M.height != A.height)
+            throw Error("mask size " + std::to_string(M.width) + "x" + std::to_string(M.height) +
+                            " differs from the images' " + std::to_string(A.width) + "x" +
+                            std::to_string(A.height),
+                        mp);
+    }
+    double sum = 0, sq = 0, mx = 0;
+    size_t n = 0, uncovered = 0;
+    for (int y = 0; y < A.height; ++y) {
+        for (int x = 0; x < A.width; ++x) {
+            const bool in = hasMask ? (M.at(x, y)[0] * M.at(x, y)[3] >= 0.5f) : (A.at(x, y)[3] >= 0.5f);
+            if (!in) continue;
+            ++n;
+            if (B.at(x, y)[3] < 0.5f) ++uncovered;
+            for (int c = 0; c < 3; ++c) {
+                const double e = std::fabs(double(A.at(x, y)[c]) - B.at(x, y)[c]) * 255.0;
+                sum += e;
+                sq += e * e;
+                mx = std::max(mx, e);
+            }
+        }
+    }
+    if (n == 0) throw Error("no pixels to compare (the mask or A's alpha selects none)", hasMask ? a.values.at("--mask") : a.positional[0]);
+    const double E = sum / (3.0 * n), rmse = std::sqrt(sq / (3.0 * n));
+    const double psnr = rmse > 0 ? 20.0 * std::log10(255.0 / rmse) : INFINITY;
+    std::printf("pixels: %zu\nE: %.4f\nRMSE: %.4f\nPSNR: %.2f\nmax: %.2f\nuncovered: %.6f\n", n, E,
+                rmse, psnr, mx, double(uncovered) / n);
+    return 0;
+}
+
+int cmdSample(const Args& a) {
+    if (a.positional.size() != 1) throw UsageError("expects exactly one output file");
+    const std::string out = a.positional[0];
+    writerFor(out)->write(gm::makeDemoDocument(), out, gm::WriteOptions{});
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fputs(kMainHelp, stderr);
+        return 2;
+    }
+    const std::string command = argv[1];
+    if (command == "--help" || command == "-h" || command == "help") {
+        std::fputs(kMainHelp, stdout);
+        return 0;
+    }
+    if (command == "--version") {
+        std::puts("gradmesh 0.1.0");
+        return 0;
+    }
+    if (!kHelp.count(command)) {
+        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n", command.c_str());
+        return 2;
+    }
+    for (int k = 2; k < argc; ++k) {
+        if (std::strcmp(argv[k], "--help") == 0 || std::strcmp(argv[k], "-h") == 0) {
+            std::fputs(kHelp.at(command).c_str(), stdout);
+            return 0;
+        }
+    }
+    try {
+        if (command == "convert" || command == "render") {
+            const Args a = parseArgs(command, argc, argv,
+                                     {"--output", "--svg-colors", "--color-tolerance", "--scale", "--background"},
+                                     {"--compact", "--legacy", "--text-shading"});
+            return cmdConvert(a, command == "render");
+        }
+        if (command == "info") return cmdInfo(parseArgs(command, argc, argv, {}, {}));
+        if (command == "compare") return cmdCompare(parseArgs(command, argc, argv, {"--mask"}, {}));
+        if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(), e.what(),
+                     command.c_str());
+        return 2;
+    } catch (const gm::Error& e) {
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "gradmesh %s: out of memory\n", command.c_str());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), e.what());
+        return 1;
+    }
+    return 2;
+}

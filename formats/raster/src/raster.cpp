@@ -1,0 +1,181 @@
+#include "formats/raster.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "formats/atomic_file.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+
+namespace gm {
+
+namespace {
+float srgbEncode(float linear) {
+    if (!(linear > 0.f)) return 0.f;
+    if (linear <= 0.0031308f) return 12.92f * linear;
+    return 1.055f * std::pow(linear, 1.f / 2.4f) - 0.055f;
+}
+
+float srgbDecode(float encoded) {
+    if (!(encoded > 0.f)) return 0.f;
+    if (encoded <= 0.04045f) return encoded / 12.92f;
+    return std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+bool isLinearSpace(const OIIO::ImageSpec& spec, const std::string& formatName) {
+    const std::string cs = lower(spec.get_string_attribute("oiio:ColorSpace"));
+    if (cs.find("srgb") != std::string::npos && cs.find("lin") == std::string::npos) return false;
+    if (cs.find("linear") != std::string::npos || cs == "lin_srgb" || cs == "scene_linear")
+        return true;
+    // Float data without a stated colour space in a scene-referred format is linear.
+    return cs.empty() && (formatName == "openexr" || formatName == "hdr");
+}
+
+bool linearExtension(const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    return ext == ".exr" || ext == ".hdr";
+}
+}  // namespace
+
+RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha as stored
+    auto in = OIIO::ImageInput::open(path, &config);
+    if (!in) {
+        std::string msg = OIIO::geterror();
+        if (msg.empty()) msg = "cannot open image";
+        // OIIO prefixes some messages with the file name; keep one copy of it.
+        throw Error("cannot read image: " + msg, path);
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
+        throw Error("unsupported image dimensions " + std::to_string(spec.width) + "x" +
+                        std::to_string(spec.height) + "x" + std::to_string(spec.depth),
+                    path);
+    const uint64_t pixels = uint64_t(spec.width) * uint64_t(spec.height);
+    if (pixels > maxPixels)
+        throw Error("image is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                        " (" + std::to_string(pixels / 1000000.0).substr(0, 6) +
+                        " megapixels), over the limit of " +
+                        std::to_string(maxPixels / 1000000.0).substr(0, 6) +
+                        " megapixels (raise it with --max-pixels)",
+                    path);
+    const int nch = spec.nchannels;
+    if (nch < 1) throw Error("image has no channels", path);
+    std::vector<float> raw(static_cast<size_t>(pixels) * nch);
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, raw.data())) {
+        std::string msg = in->geterror();
+        throw Error("cannot decode image: " + (msg.empty() ? std::string("read failed") : msg), path);
+    }
+    const bool linear = isLinearSpace(spec, in->format_name());
+    int alpha = spec.alpha_channel;
+    if (alpha < 0 && (nch == 2 || nch == 4)) alpha = nch - 1;
+    const bool associated = alpha >= 0 && spec.get_int_attribute("oiio:UnassociatedAlpha", 0) == 0 &&
+                            (linear || lower(in->format_name()) == "openexr");
+    RgbaImage img(spec.width, spec.height);
+    for (size_t p = 0; p < pixels; ++p) {
+        const float* s = &raw[p * nch];
+        float* d = &img.pixels[p * 4];
+        float a = alpha >= 0 ? s[alpha] : 1.f;
+        float rgb[3];
+        if (nch < 3) {
+            rgb[0] = rgb[1] = rgb[2] = s[0];
+        } else {
+            rgb[0] = s[0];
+            rgb[1] = s[1];
+            rgb[2] = s[2];
+        }
+        if (!std::isfinite(a)) a = 0.f;
+        a = std::clamp(a, 0.f, 1.f);
+        for (float& c : rgb) {
+            if (!std::isfinite(c)) c = 0.f;
+            if (associated) c = a > 0.f ? c / a : 0.f;
+            if (linear) c = srgbEncode(c);
+            c = std::clamp(c, 0.f, 1.f);
+        }
+        d[0] = rgb[0];
+        d[1] = rgb[1];
+        d[2] = rgb[2];
+        d[3] = a;
+    }
+    return img;
+}
+
+void writeImage(const RgbaImage& image, const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    const bool noAlpha = ext == ".jpg" || ext == ".jpeg";
+    const bool linear = linearExtension(path);
+    const int nch = noAlpha ? 3 : 4;
+    AtomicOutput out(path);
+    auto file = OIIO::ImageOutput::create(out.tempPath());
+    if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
+    OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
+    if (linear) type = OIIO::TypeDesc::HALF;
+    if (ext == ".tif" || ext == ".tiff") type = OIIO::TypeDesc::UINT16;
+    OIIO::ImageSpec spec(image.width, image.height, nch, type);
+    if (!noAlpha) spec.alpha_channel = 3;
+    if (!linear) {
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+        spec.attribute("oiio:ColorSpace", "sRGB");
+    }
+    const size_t pixels = static_cast<size_t>(image.width) * image.height;
+    std::vector<float> data(pixels * nch);
+    for (size_t p = 0; p < pixels; ++p) {
+        const float* s = &image.pixels[p * 4];
+        for (int c = 0; c < 3; ++c) {
+            float v = std::clamp(s[c], 0.f, 1.f);
+            if (linear) v = srgbDecode(v) * s[3];  // EXR stores associated alpha
+            data[p * nch + c] = v;
+        }
+        if (!noAlpha) data[p * nch + 3] = std::clamp(s[3], 0.f, 1.f);
+    }
+    if (!file->open(out.tempPath(), spec)) throw Error("cannot write image: " + file->geterror(), path);
+    if (!file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
+        throw Error("cannot write image: " + file->geterror(), path);
+    out.commit();
+}
+
+void compositeOver(RgbaImage& image, const std::array<float, 4>& bg) {
+    if (bg[3] <= 0.f) return;
+    const size_t pixels = static_cast<size_t>(image.width) * image.height;
+    for (size_t p = 0; p < pixels; ++p) {
+        float* d = &image.pixels[p * 4];
+        const float a = d[3];
+        const float outA = a + bg[3] * (1 - a);
+        for (int c = 0; c < 3; ++c)
+            d[c] = outA > 0 ? (d[c] * a + bg[c] * bg[3] * (1 - a)) / outA : 0.f;
+        d[3] = outA;
+    }
+}
+
+namespace {
+class RasterFormat : public MeshFormat {
+public:
+    std::string name() const override { return "raster"; }
+    std::vector<std::string> extensions() const override {
+        return {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr"};
+    }
+    bool canWrite() const override { return true; }
+    void write(const Document& doc, const std::string& path,
+               const WriteOptions& options) const override {
+        RenderOptions ro;
+        ro.scale = options.rasterScale;
+        RgbaImage img = renderDocument(doc, ro).image;
+        compositeOver(img, options.background);
+        writeImage(img, path);
+    }
+};
+}  // namespace
+
+std::unique_ptr<MeshFormat> makeRasterFormat() { return std::make_unique<RasterFormat>(); }
+
+}  // namespace gm

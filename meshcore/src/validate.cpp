@@ -1,0 +1,82 @@
+#include "meshcore/validate.h"
+
+#include <cmath>
+#include <string>
+
+namespace gm {
+
+namespace {
+bool finite2(Vec2 a) { return std::isfinite(a.x) && std::isfinite(a.y); }
+bool finite3(Vec3 a) { return std::isfinite(a.r) && std::isfinite(a.g) && std::isfinite(a.b); }
+bool finiteNode(const Node& n) {
+    return finite2(n.pos) && finite2(n.posU) && finite2(n.posV) && finite3(n.col) &&
+           finite3(n.colU) && finite3(n.colV);
+}
+
+std::string checkKnots(const std::vector<double>& k, const char* name) {
+    if (k.size() < 2) return std::string("fewer than two ") + name + " knots";
+    for (size_t i = 0; i < k.size(); ++i) {
+        if (!std::isfinite(k[i])) return std::string(name) + " knot " + std::to_string(i) + " is not finite";
+        if (i > 0 && !(k[i] > k[i - 1]))
+            return std::string(name) + " knots not strictly increasing at index " + std::to_string(i);
+    }
+    return {};
+}
+}  // namespace
+
+std::string validateMesh(const GradientMesh& m) {
+    if (auto e = checkKnots(m.u, "u"); !e.empty()) return e;
+    if (auto e = checkKnots(m.v, "v"); !e.empty()) return e;
+    const int C = m.columns(), R = m.rows();
+    const size_t expected = (static_cast<size_t>(C) + 1) * (static_cast<size_t>(R) + 1);
+    if (m.nodes.size() != expected)
+        return "node count " + std::to_string(m.nodes.size()) + " does not match the " +
+               std::to_string(C) + "x" + std::to_string(R) + " grid (" + std::to_string(expected) + ")";
+    for (size_t k = 0; k < m.nodes.size(); ++k)
+        if (!finiteNode(m.nodes[k]))
+            return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) +
+                   ") has a non-finite value";
+    for (size_t s = 0; s < m.slits.size(); ++s) {
+        const Slit& sl = m.slits[s];
+        const std::string name = "slit " + std::to_string(s);
+        if (sl.row <= 0 || sl.row >= R)
+            return name + " is on row " + std::to_string(sl.row) + ", not an interior row (1.." +
+                   std::to_string(R - 1) + ")";
+        if (sl.i0 <= 0 || sl.i1 >= C || sl.i0 >= sl.i1)
+            return name + " spans columns " + std::to_string(sl.i0) + ".." + std::to_string(sl.i1) +
+                   ", not inside 1.." + std::to_string(C - 1);
+        if (sl.below.size() != static_cast<size_t>(sl.i1 - sl.i0 - 1))
+            return name + " has " + std::to_string(sl.below.size()) + " split nodes, expected " +
+                   std::to_string(sl.i1 - sl.i0 - 1);
+        for (const Node& n : sl.below)
+            if (!finiteNode(n)) return name + " has a non-finite split node";
+        if (!finite2(sl.left.posU) || !finite3(sl.left.colU) || !finite2(sl.right.posU) ||
+            !finite3(sl.right.colU))
+            return name + " has a non-finite end tangent";
+        for (size_t o = 0; o < s; ++o) {
+            const Slit& t = m.slits[o];
+            if (t.row == sl.row && !(t.i1 < sl.i0 || sl.i1 < t.i0))
+                return name + " touches slit " + std::to_string(o) + " on row " + std::to_string(sl.row);
+        }
+    }
+    for (size_t k = 0; k < m.tangents.size(); ++k) {
+        const CornerTangent& t = m.tangents[k];
+        if (t.i < 0 || t.i >= C || t.j < 0 || t.j >= R || t.a < 0 || t.a > 1 || t.b < 0 || t.b > 1)
+            return "tangent break " + std::to_string(k) + " names a patch corner outside the grid";
+        if (!finite2(t.posU) || !finite3(t.colU))
+            return "tangent break " + std::to_string(k) + " is not finite";
+    }
+    return {};
+}
+
+std::string validateDocument(const Document& doc) {
+    if (doc.width <= 0 || doc.height <= 0)
+        return "canvas size " + std::to_string(doc.width) + "x" + std::to_string(doc.height) +
+               " is not positive";
+    for (size_t k = 0; k < doc.meshes.size(); ++k)
+        if (auto e = validateMesh(doc.meshes[k]); !e.empty())
+            return "mesh " + std::to_string(k) + ": " + e;
+    return {};
+}
+
+}  // namespace gm
