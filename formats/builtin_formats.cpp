@@ -1,8 +1,11 @@
 // The one place that names the built-in formats.
 #include "formats/registry.h"
 
+#include "formats/eps.h"
 #include "formats/gmb.h"
+#include "formats/pdf.h"
 #include "formats/raster.h"
+#include "formats/svg.h"
 
 namespace gm {
 
@@ -11,6 +14,9 @@ const FormatRegistry& FormatRegistry::builtin() {
         FormatRegistry r;
         r.add(makeGmbFormat());
         r.add(makeRasterFormat());
+        r.add(makeSvgFormat());
+        r.add(makeEpsFormat());
+        r.add(makePdfFormat());
         return r;
     }();
     return registry;

@@ -93,7 +93,7 @@ void bilinearDeviation(const Scalar44& c, Scalar44& d) {
     }
 }
 
-constexpr int kRefineDepth = 3;
+constexpr int kRefineDepth = 5;
 
 // True when every piece of the k×k split of channel q is within tol of its bilinear colour.
 bool channelPasses(const Scalar44& q, int k, double tol) {

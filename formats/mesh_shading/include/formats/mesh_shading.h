@@ -1,0 +1,65 @@
+// Patch-mesh shadings (PDF / PostScript shading type 7, tensor-product patches) shared by the
+// EPS and PDF writers.
+//
+// Coordinates stay in canvas pixels with y down; each writer maps them to its page with a y
+// flip. Every patch is written with edge flag 0 (16 points and 4 colours), so a mesh with holes
+// needs no split: the hole is simply where no patch is. Patch colour in these formats is the
+// bilinear interpolation of the corner colours, so each mesh patch is split k×k (exact Bézier
+// subdivision, colorSubdivisionCount) until that stays within WriteOptions::colorTolerance of
+// the mesh's bicubic colour.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "formats/registry.h"
+#include "meshcore/bezier_patch.h"
+
+namespace gm {
+
+// The patches of one shading, in painting order.
+struct MeshShading {
+    std::vector<BezierPatch> patches;
+};
+
+// One shading per mesh, or per hole-free legacy piece when options.legacy; patches already
+// subdivided for exact colour. Meshes without patches give no shading. The document must be
+// valid (validateDocument).
+std::vector<MeshShading> buildMeshShadings(const Document& doc, const WriteOptions& options);
+
+// The binary data stream of a shading (before compression), for
+// /BitsPerCoordinate 32 /BitsPerComponent 16 /BitsPerFlag 8: per patch the flag byte 0, the
+// 16 points in the order of the PDF 1.7 reference, Table 4.36
+// (p00 p01 p02 p03 p13 p23 p33 p32 p31 p30 p20 p10 p11 p12 p22 p21, p[a][b] with a along the
+// patch's s), then the colours c00 c03 c33 c30, all big-endian. Coordinates are quantised over
+// the integer-bounded box `decode` = {xmin, xmax, ymin, ymax} (error ≤ range / 2^33, a few
+// millionths of a pixel); colours (clamped to 0–1) to 1/65535.
+struct BinaryShading {
+    std::string data;
+    double decode[4] = {0, 1, 0, 1};
+};
+BinaryShading encodeShadingBinary(const MeshShading& shading);
+
+// The dictionary entries common to PostScript and PDF for a binary shading:
+// "/ShadingType 7 /ColorSpace /DeviceRGB /BitsPerCoordinate 32 ... /Decode [...]".
+std::string binaryShadingEntries(const BinaryShading& shading);
+
+// Patches [first, first+count) as PostScript array contents: per patch the flag 0, 16 points
+// (x y, same order as the binary form), 4 colours (r g b); coordinates to 1e-4 px, colours to
+// 1e-6; lines under 255 characters.
+std::string encodeShadingText(const MeshShading& shading, size_t first, size_t count);
+
+// `value` in fixed notation with at most `decimals` decimals, trailing zeros removed, never
+// "-0"; independent of the C locale.
+std::string formatDecimal(double value, int decimals);
+
+// zlib-format (RFC 1950) compression, what /FlateDecode reads.
+std::string deflateBytes(const std::string& bytes);
+
+// ASCII85 (btoa) encoding with `z` for zero groups and the `~>` end marker, in lines of at most
+// `lineLength` characters, none starting with '%' (so DSC parsers never mistake data for
+// comments).
+std::string ascii85Encode(const std::string& bytes, size_t lineLength = 76);
+
+}  // namespace gm

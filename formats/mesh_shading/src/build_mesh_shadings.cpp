@@ -1,0 +1,45 @@
+#include <algorithm>
+
+#include "formats/mesh_shading.h"
+#include "meshcore/color_subdivision.h"
+#include "meshcore/split_legacy.h"
+
+namespace gm {
+
+namespace {
+void appendMesh(const GradientMesh& mesh, double tolerance, std::vector<MeshShading>& out) {
+    if (mesh.patchCount() == 0) return;
+    MeshShading shading;
+    shading.patches.reserve(static_cast<size_t>(mesh.patchCount()));
+    for (int j = 0; j < mesh.rows(); ++j) {
+        for (int i = 0; i < mesh.columns(); ++i) {
+            const BezierPatch patch = toBezier(mesh, i, j);
+            const int k = colorSubdivisionCount(patch, tolerance);
+            if (k == 1) {
+                shading.patches.push_back(patch);
+            } else {
+                for (const BezierPatch& piece : subdivideUniform(patch, k))
+                    shading.patches.push_back(piece);
+            }
+        }
+    }
+    out.push_back(std::move(shading));
+}
+}  // namespace
+
+std::vector<MeshShading> buildMeshShadings(const Document& doc, const WriteOptions& options) {
+    // A tolerance below what 16-bit colour can carry would only multiply patches.
+    const double tolerance = std::max(options.colorTolerance, 1.0 / 65535.0);
+    std::vector<MeshShading> shadings;
+    for (const GradientMesh& mesh : doc.meshes) {
+        if (options.legacy) {
+            for (const GradientMesh& piece : splitIntoLegacyMeshes(mesh))
+                appendMesh(piece, tolerance, shadings);
+        } else {
+            appendMesh(mesh, tolerance, shadings);
+        }
+    }
+    return shadings;
+}
+
+}  // namespace gm

@@ -1,0 +1,102 @@
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "formats/atomic_file.h"
+#include "formats/mesh_shading.h"
+#include "formats/pdf.h"
+#include "meshcore/error.h"
+#include "meshcore/validate.h"
+
+namespace gm {
+
+namespace {
+
+// Builds the file object by object, recording each one's byte offset for the xref table.
+class PdfBuilder {
+public:
+    PdfBuilder() {
+        // The binary comment tells transfer programs the file is binary.
+        out_ = "%PDF-1.7\n%\xe2\xe3\xcf\xd3\n";
+    }
+    // Reserves the next object number.
+    int reserve() {
+        offsets_.push_back(0);
+        return static_cast<int>(offsets_.size());
+    }
+    void object(int number, const std::string& body) {
+        offsets_[static_cast<size_t>(number) - 1] = out_.size();
+        out_ += std::to_string(number) + " 0 obj\n" + body + "\nendobj\n";
+    }
+    void stream(int number, const std::string& dict, const std::string& data) {
+        object(number, "<< " + dict + " /Length " + std::to_string(data.size()) + " >>\nstream\n" +
+                           data + "\nendstream");
+    }
+    std::string finish(int root) {
+        const size_t xref = out_.size();
+        const size_t count = offsets_.size() + 1;
+        out_ += "xref\n0 " + std::to_string(count) + "\n";
+        out_ += "0000000000 65535 f\r\n";  // each entry exactly 20 bytes
+        for (size_t offset : offsets_) {
+            char entry[32];
+            std::snprintf(entry, sizeof entry, "%010zu 00000 n\r\n", offset);
+            out_ += entry;
+        }
+        out_ += "trailer\n<< /Size " + std::to_string(count) + " /Root " + ref(root) + " >>\n";
+        out_ += "startxref\n" + std::to_string(xref) + "\n%%EOF\n";
+        return std::move(out_);
+    }
+    static std::string ref(int number) { return std::to_string(number) + " 0 R"; }
+
+private:
+    std::string out_;
+    std::vector<size_t> offsets_;
+};
+
+std::string pdfDocument(const Document& doc, const WriteOptions& options) {
+    const std::vector<MeshShading> shadings = buildMeshShadings(doc, options);
+    const std::string w = std::to_string(doc.width), h = std::to_string(doc.height);
+    PdfBuilder pdf;
+    const int catalog = pdf.reserve(), pages = pdf.reserve(), page = pdf.reserve(),
+              contents = pdf.reserve();
+    std::string shadingResources, paint;
+    // Canvas y runs down, PDF y up.
+    paint = "q 1 0 0 -1 0 " + h + " cm\n";
+    for (size_t n = 0; n < shadings.size(); ++n) {
+        const BinaryShading binary = encodeShadingBinary(shadings[n]);
+        const int object = pdf.reserve();
+        pdf.stream(object, binaryShadingEntries(binary) + " /Filter /FlateDecode",
+                   deflateBytes(binary.data));
+        const std::string name = "/Sh" + std::to_string(n);
+        shadingResources += name + " " + PdfBuilder::ref(object) + " ";
+        paint += name + " sh\n";
+    }
+    paint += "Q\n";
+    pdf.object(catalog, "<< /Type /Catalog /Pages " + PdfBuilder::ref(pages) + " >>");
+    pdf.object(pages, "<< /Type /Pages /Kids [" + PdfBuilder::ref(page) + "] /Count 1 >>");
+    pdf.object(page, "<< /Type /Page /Parent " + PdfBuilder::ref(pages) + " /MediaBox [0 0 " + w +
+                         " " + h + "] /Resources << /Shading << " + shadingResources +
+                         ">> >> /Contents " + PdfBuilder::ref(contents) + " >>");
+    pdf.stream(contents, "", paint);
+    return pdf.finish(catalog);
+}
+
+class PdfFormat : public MeshFormat {
+public:
+    std::string name() const override { return "pdf"; }
+    std::vector<std::string> extensions() const override { return {".pdf"}; }
+    bool canWrite() const override { return true; }
+    bool sniff(const std::string& head) const override { return head.rfind("%PDF-", 0) == 0; }
+    void write(const Document& doc, const std::string& path,
+               const WriteOptions& options) const override {
+        const std::string problem = validateDocument(doc);
+        if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
+        writeFileAtomically(path, pdfDocument(doc, options));
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<MeshFormat> makePdfFormat() { return std::make_unique<PdfFormat>(); }
+
+}  // namespace gm

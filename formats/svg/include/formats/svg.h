@@ -1,0 +1,86 @@
+// .svg — SVG 2 <meshgradient> (FORMATS.md): written for Inkscape, read back from our own files
+// and from what Inkscape saves after opening them.
+//
+// The canvas maps 1:1 to the SVG user space: viewBox "0 0 W H", pixels, y down. Every hole-free
+// mesh (a mesh with slits is written as its legacy pieces) becomes one <meshgradient> painted on
+// a <path> of its own outline.
+//
+// Colour modes (WriteOptions::svgColors):
+//  - "exact": each patch is split into exact Bézier sub-patches until the bilinear colour that
+//    meshgradient patches interpolate is within WriteOptions::colorTolerance of ours; the
+//    `tensor` attribute carries the exact interior control points. A meshgradient is a regular
+//    grid, so patch column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j
+//    the largest per-patch count (colorSubdivisionCount) over that column / row.
+//  - "editable": one SVG patch per mesh patch, type="bicubic": Inkscape recomputes colour
+//    derivatives with its own rule (svgEditableDeviation says how far that is from ours).
+//
+// Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and
+// how the Ferguson data is recovered from Bézier handles).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "formats/registry.h"
+
+namespace gm {
+
+std::unique_ptr<MeshFormat> makeSvgFormat();
+
+// In-memory encode. Throws gm::Error for an unknown colour mode or an invalid document.
+std::string encodeSvg(const Document& doc, const WriteOptions& options);
+
+// In-memory decode; throws gm::Error naming `fileName` and the element on anything it cannot
+// read. Besides `limits` (file size, grid sizes, mesh count), it refuses: DTDs declaring
+// entities, more than SvgReadLimits::maxElements elements, nesting deeper than tinyxml2's limit,
+// numbers that are not finite or exceed SvgReadLimits::maxCoordinate, href chains with a cycle
+// or longer than SvgReadLimits::maxHrefChain.
+//
+// Recovery of the Ferguson data (a meshgradient stores Bézier handles, not derivatives):
+//  - knots: uniform up to the ratio of handle lengths on the two sides of each grid line
+//    (weighted median over the line), so that a mesh subdivided non-uniformly, as the exact
+//    mode writes it, gets back derivatives that agree on both sides;
+//  - posU / posV = 3·(handle − corner) / Δknot, averaged over the two sides; where the two
+//    u-handles of a node disagree (a kink, as at former slit ends) the left patches get a
+//    CornerTangent break. v-handles cannot break in our representation: they are averaged;
+//  - tensor points (and the Coons interior) are not representable with zero twists: the
+//    interior becomes the zero-twist one of the recovered edges;
+//  - colours from the stops (8-bit in our files); colour derivatives: type="bicubic" applies
+//    applyColorRule; otherwise (bilinear patches) the derivative of the parabola through the
+//    node and its two neighbours along the grid line, one-sided at the mesh border and at
+//    u-breaks. Corner colours are exact; inside, a Coons patch's bilinear colour differs from the
+//    zero-twist interpolant by its twist.
+Document decodeSvg(const std::string& bytes, const ReadLimits& limits,
+                   const std::string& fileName = "<memory>");
+
+struct SvgReadLimits {
+    static constexpr uint64_t maxFileBytes = uint64_t(256) << 20;  // also capped by ReadLimits
+    static constexpr uint64_t maxElements = uint64_t(8) << 20;
+    static constexpr double maxCoordinate = 1e7;  // |number| in paths, positions, transforms
+    static constexpr int maxHrefChain = 64;
+};
+
+// How far Inkscape's bicubic colour rule is from the mesh's own colour derivatives: what an
+// "editable" file loses. Max over the document's meshes.
+struct SvgEditableDeviation {
+    // colorRuleDeviation: 0–1 colour per unit of our global parameters.
+    double ruleDeviation = 0;
+    // bicubicExportDeviation: 0–1 colour per unit of patch parameter, between the local slopes
+    // our patches use and those Inkscape computes for the written pieces.
+    double slopeDeviation = 0;
+    // An upper bound (0–1 colour units) of the colour difference inside a patch that follows:
+    // half the slope deviation.
+    double maxColorDifference = 0;
+};
+SvgEditableDeviation svgEditableDeviation(const Document& doc);
+
+// Figures of one encode, for reports: patches written (after subdivision) and meshgradients.
+struct SvgEncodeStats {
+    int64_t svgPatches = 0;
+    int64_t meshGradients = 0;
+    int maxSubdivision = 1;  // largest ku or kv used in exact mode
+};
+std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats);
+
+}  // namespace gm

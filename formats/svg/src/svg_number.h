@@ -1,0 +1,43 @@
+// Number text for SVG output: 1e-4 px steps, shortest form. Positions on canvases up to 1e7 px
+// stay within 5e-5 px of the value (%.6g would lose 1e-3 px above a few hundred pixels).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace gm {
+
+// The value a reader gets back from the text appendSvgNumber writes for v.
+inline long long svgNumberSteps(double v) { return std::llround(v * 1e4); }
+inline double svgPrintedValue(double v) { return static_cast<double>(svgNumberSteps(v)) / 1e4; }
+
+// "12.5", "-.25", "0", "3": no trailing zeros, no leading zero before the point when
+// `dropLeadingZero` (path and tensor data; attribute lengths keep it).
+inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = true) {
+    long long q = svgNumberSteps(v);
+    if (q == 0) {
+        out += '0';
+        return;
+    }
+    if (q < 0) {
+        out += '-';
+        q = -q;
+    }
+    const long long whole = q / 10000;
+    long long frac = q % 10000;
+    if (whole != 0 || !dropLeadingZero || frac == 0) out += std::to_string(whole);
+    if (frac != 0) {
+        char digits[5] = {'0', '0', '0', '0', 0};
+        for (int k = 3; k >= 0; --k) {
+            digits[k] = static_cast<char>('0' + frac % 10);
+            frac /= 10;
+        }
+        int len = 4;
+        while (len > 0 && digits[len - 1] == '0') --len;
+        out += '.';
+        out.append(digits, static_cast<size_t>(len));
+    }
+}
+
+}  // namespace gm

@@ -1,0 +1,590 @@
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "formats/svg.h"
+#include "meshcore/error.h"
+#include "meshcore/validate.h"
+#include "svg_patch_grid.h"
+
+namespace gm {
+
+namespace {
+
+using tinyxml2::XMLElement;
+
+struct Affine {
+    double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;  // x' = a x + c y + e, y' = b x + d y + f
+    Vec2 apply(Vec2 p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
+};
+// this ∘ m: first m, then this.
+Affine compose(const Affine& t, const Affine& m) {
+    Affine r;
+    r.a = t.a * m.a + t.c * m.b;
+    r.b = t.b * m.a + t.d * m.b;
+    r.c = t.a * m.c + t.c * m.d;
+    r.d = t.b * m.c + t.d * m.d;
+    r.e = t.a * m.e + t.c * m.f + t.e;
+    r.f = t.b * m.e + t.d * m.f + t.f;
+    return r;
+}
+
+const char* localName(const XMLElement* el) {
+    const char* name = el->Name();
+    const char* colon = std::strrchr(name, ':');
+    return colon ? colon + 1 : name;
+}
+
+bool isNamed(const XMLElement* el, const char* name) {
+    return std::strcmp(localName(el), name) == 0;
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& fileName) : file_(fileName) {}
+
+    [[noreturn]] void fail(const std::string& what, const XMLElement* el) const {
+        throw Error(what, file_, el ? describe(el) : std::string());
+    }
+
+    std::string describe(const XMLElement* el) const {
+        std::string s = "<" + std::string(el->Name());
+        if (const char* id = el->Attribute("id")) s += " id=\"" + std::string(id).substr(0, 64) + "\"";
+        s += "> at line " + std::to_string(el->GetLineNum());
+        return s;
+    }
+
+    static void skipSeparators(const char*& p) {
+        while (*p && (std::isspace(static_cast<unsigned char>(*p)) || *p == ',')) ++p;
+    }
+    static void skipSpace(const char*& p) {
+        while (*p && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    }
+
+    // Parses one number at p (after optional separators); false when none is there.
+    bool number(const char*& p, double& v, const XMLElement* el, const char* what) const {
+        skipSeparators(p);
+        if (!*p) return false;
+        const char c0 = *p;
+        if (!(std::isdigit(static_cast<unsigned char>(c0)) || c0 == '-' || c0 == '+' || c0 == '.'))
+            return false;
+        char* end = nullptr;
+        v = std::strtod(p, &end);
+        if (end == p) return false;
+        // strtod accepts "nan", "inf", hex floats: none of them belongs in SVG numbers.
+        for (const char* q = p; q < end; ++q)
+            if (std::isalpha(static_cast<unsigned char>(*q)) && *q != 'e' && *q != 'E')
+                fail(std::string("malformed number in ") + what, el);
+        if (!std::isfinite(v) || std::fabs(v) > SvgReadLimits::maxCoordinate)
+            fail(std::string("number out of range in ") + what + ": " +
+                     std::string(p, static_cast<size_t>(std::min<long>(end - p, 40))),
+                 el);
+        p = end;
+        return true;
+    }
+
+    double numberAttribute(const XMLElement* el, const char* name, double fallback,
+                           bool allowUnitPx = false) const {
+        const char* s = el->Attribute(name);
+        if (!s) return fallback;
+        const char* p = s;
+        double v = 0;
+        if (!number(p, v, el, name)) fail(std::string("attribute ") + name + " is not a number", el);
+        skipSpace(p);
+        if (allowUnitPx && std::strncmp(p, "px", 2) == 0) p += 2;
+        skipSpace(p);
+        if (*p) fail(std::string("attribute ") + name + " has unsupported text '" + s + "'", el);
+        return v;
+    }
+
+    Affine transformAttribute(const XMLElement* el, const char* name) const {
+        Affine t;
+        const char* s = el->Attribute(name);
+        if (!s) return t;
+        const char* p = s;
+        for (;;) {
+            skipSeparators(p);
+            if (!*p) break;
+            const char* start = p;
+            while (std::isalpha(static_cast<unsigned char>(*p))) ++p;
+            const std::string fn(start, p);
+            skipSpace(p);
+            if (*p != '(') fail(std::string("malformed ") + name, el);
+            ++p;
+            double v[6];
+            int n = 0;
+            for (; n < 6; ++n)
+                if (!number(p, v[n], el, name)) break;
+            skipSpace(p);
+            if (*p != ')') fail(std::string("malformed ") + name, el);
+            ++p;
+            Affine m;
+            const double deg = 3.14159265358979323846 / 180;
+            if (fn == "matrix" && n == 6) {
+                m = {v[0], v[1], v[2], v[3], v[4], v[5]};
+            } else if (fn == "translate" && (n == 1 || n == 2)) {
+                m.e = v[0];
+                m.f = n == 2 ? v[1] : 0;
+            } else if (fn == "scale" && (n == 1 || n == 2)) {
+                m.a = v[0];
+                m.d = n == 2 ? v[1] : v[0];
+            } else if (fn == "rotate" && (n == 1 || n == 3)) {
+                const double c = std::cos(v[0] * deg), s2 = std::sin(v[0] * deg);
+                Affine r{c, s2, -s2, c, 0, 0};
+                if (n == 3) {
+                    Affine to{1, 0, 0, 1, v[1], v[2]}, back{1, 0, 0, 1, -v[1], -v[2]};
+                    r = compose(to, compose(r, back));
+                }
+                m = r;
+            } else if (fn == "skewX" && n == 1) {
+                m.c = std::tan(v[0] * deg);
+            } else if (fn == "skewY" && n == 1) {
+                m.b = std::tan(v[0] * deg);
+            } else {
+                fail(std::string("unsupported transform '") + fn + "' in " + name, el);
+            }
+            t = compose(t, m);
+        }
+        if (!std::isfinite(t.a) || !std::isfinite(t.b) || !std::isfinite(t.c) ||
+            !std::isfinite(t.d) || !std::isfinite(t.e) || !std::isfinite(t.f))
+            fail(std::string("transform out of range in ") + name, el);
+        return t;
+    }
+
+    // A property from the style attribute (wins) or the presentation attribute.
+    static std::string property(const XMLElement* el, const char* name) {
+        std::string value;
+        if (const char* a = el->Attribute(name)) value = a;
+        if (const char* style = el->Attribute("style")) {
+            const std::string s = style;
+            size_t pos = 0;
+            while (pos < s.size()) {
+                size_t semi = s.find(';', pos);
+                if (semi == std::string::npos) semi = s.size();
+                const std::string decl = s.substr(pos, semi - pos);
+                const size_t colon = decl.find(':');
+                if (colon != std::string::npos && trim(decl.substr(0, colon)) == name)
+                    value = trim(decl.substr(colon + 1));
+                pos = semi + 1;
+            }
+        }
+        return trim(value);
+    }
+
+    static std::string trim(const std::string& s) {
+        size_t b = 0, e = s.size();
+        while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+        while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+        return s.substr(b, e - b);
+    }
+
+    // "#id" of url(#id) / url('#id'); empty when the paint is not a local url.
+    static std::string urlTarget(const std::string& paint) {
+        if (paint.compare(0, 4, "url(") != 0) return {};
+        size_t close = paint.find(')');
+        if (close == std::string::npos) return {};
+        std::string inner = trim(paint.substr(4, close - 4));
+        if (inner.size() >= 2 && (inner[0] == '\'' || inner[0] == '"')) inner = inner.substr(1, inner.size() - 2);
+        if (inner.empty() || inner[0] != '#') return {};
+        return inner.substr(1);
+    }
+
+    static std::string hrefTarget(const XMLElement* el) {
+        const char* h = el->Attribute("xlink:href");
+        if (!h) h = el->Attribute("href");
+        if (!h || h[0] != '#') return {};
+        return h + 1;
+    }
+
+    Vec3 color(const XMLElement* stop) const {
+        std::string s = property(stop, "stop-color");
+        if (s.empty()) return {0, 0, 0};  // the SVG initial value
+        // "#rrggbb icc-color(...)": the sRGB fallback is what renderers use.
+        const size_t space = s.find_first_of(" \t\r\n");
+        if (space != std::string::npos && s[0] == '#') s = s.substr(0, space);
+        auto hexval = [](char c) -> int {
+            if (c >= '0' && c <= '9') return c - '0';
+            c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+            return -1;
+        };
+        if (s[0] == '#') {
+            int h[6];
+            const size_t n = s.size() - 1;
+            if (n != 3 && n != 6) fail("bad stop-color '" + s.substr(0, 40) + "'", stop);
+            for (size_t k = 0; k < n; ++k)
+                if ((h[k] = hexval(s[k + 1])) < 0) fail("bad stop-color '" + s.substr(0, 40) + "'", stop);
+            if (n == 3) return {h[0] * 17 / 255.0, h[1] * 17 / 255.0, h[2] * 17 / 255.0};
+            return {(h[0] * 16 + h[1]) / 255.0, (h[2] * 16 + h[3]) / 255.0,
+                    (h[4] * 16 + h[5]) / 255.0};
+        }
+        if (s.compare(0, 4, "rgb(") == 0 && s.back() == ')') {
+            const std::string inner = s.substr(4, s.size() - 5);
+            const char* p = inner.c_str();
+            Vec3 c;
+            for (int k = 0; k < 3; ++k) {
+                double v = 0;
+                if (!number(p, v, stop, "stop-color")) fail("bad stop-color '" + s.substr(0, 40) + "'", stop);
+                skipSpace(p);
+                if (*p == '%') {
+                    v /= 100.0;
+                    ++p;
+                } else {
+                    v /= 255.0;
+                }
+                c[k] = std::min(1.0, std::max(0.0, v));
+            }
+            skipSpace(p);
+            if (*p) fail("bad stop-color '" + s.substr(0, 40) + "'", stop);
+            return c;
+        }
+        static const struct {
+            const char* name;
+            unsigned rgb;
+        } named[] = {{"black", 0x000000}, {"silver", 0xc0c0c0}, {"gray", 0x808080},
+                     {"grey", 0x808080},  {"white", 0xffffff},  {"maroon", 0x800000},
+                     {"red", 0xff0000},   {"purple", 0x800080}, {"fuchsia", 0xff00ff},
+                     {"green", 0x008000}, {"lime", 0x00ff00},   {"olive", 0x808000},
+                     {"yellow", 0xffff00}, {"navy", 0x000080},  {"blue", 0x0000ff},
+                     {"teal", 0x008080},  {"aqua", 0x00ffff},   {"orange", 0xffa500}};
+        std::string lower = s;
+        std::transform(lower.begin(), lower.end(), lower.begin(),
+                       [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+        for (const auto& nc : named)
+            if (lower == nc.name)
+                return {((nc.rgb >> 16) & 255) / 255.0, ((nc.rgb >> 8) & 255) / 255.0,
+                        (nc.rgb & 255) / 255.0};
+        fail("unsupported stop-color '" + s.substr(0, 40) + "'", stop);
+    }
+
+    // One edge of a patch from `start`: handles h1, h2 and end point. A closing edge ends at a
+    // corner already known, which `end` holds on entry.
+    void edge(const XMLElement* stop, Vec2 start, bool closing, Vec2& h1, Vec2& h2, Vec2& end) const {
+        const char* path = stop->Attribute("path");
+        if (!path) fail("stop of a meshpatch has no path attribute", stop);
+        const char* p = path;
+        skipSpace(p);
+        const char cmd = *p;
+        if (cmd != 'c' && cmd != 'C' && cmd != 'l' && cmd != 'L')
+            fail(std::string("stop path must be one c, C, l or L command, not '") +
+                     std::string(path).substr(0, 40) + "'",
+                 stop);
+        ++p;
+        double v[6];
+        int n = 0;
+        for (; n < 6; ++n)
+            if (!number(p, v[n], stop, "stop path")) break;
+        skipSeparators(p);
+        if (*p)
+            fail("stop path has more than one command or extra text: '" +
+                     std::string(path).substr(0, 60) + "'",
+                 stop);
+        const bool cubic = cmd == 'c' || cmd == 'C';
+        const bool rel = cmd == 'c' || cmd == 'l';
+        const int need = cubic ? (closing ? 4 : 6) : (closing ? 0 : 2);
+        const int full = cubic ? 6 : 2;
+        if (n != need && n != full)
+            fail("stop path '" + std::string(path).substr(0, 60) + "' has " + std::to_string(n) +
+                     " numbers, expected " + std::to_string(need) +
+                     (need != full ? " or " + std::to_string(full) : std::string()),
+                 stop);
+        auto pt = [&](int k) {
+            Vec2 q{v[2 * k], v[2 * k + 1]};
+            return rel ? start + q : q;
+        };
+        if (!closing) end = cubic ? pt(2) : pt(0);
+        if (cubic) {
+            h1 = pt(0);
+            h2 = pt(1);
+        } else {
+            h1 = start + (1.0 / 3) * (end - start);
+            h2 = start + (2.0 / 3) * (end - start);
+        }
+    }
+
+    // The rows of `array` read into a grid whose first corner is `origin` (gradient space).
+    SvgPatchGrid grid(const XMLElement* array, Vec2 origin, const ReadLimits& limits) const {
+        std::vector<std::vector<const XMLElement*>> rows;
+        for (const XMLElement* r = array->FirstChildElement(); r; r = r->NextSiblingElement()) {
+            if (!isNamed(r, "meshrow")) continue;
+            rows.emplace_back();
+            for (const XMLElement* p = r->FirstChildElement(); p; p = p->NextSiblingElement())
+                if (isNamed(p, "meshpatch")) rows.back().push_back(p);
+            if (rows.back().empty()) fail("meshrow has no meshpatch", r);
+            if (rows.back().size() != rows.front().size())
+                fail("meshrow has " + std::to_string(rows.back().size()) +
+                         " patches, the first row has " + std::to_string(rows.front().size()),
+                     r);
+        }
+        if (rows.empty()) fail("meshgradient has no meshrow", array);
+        const uint64_t C = rows.front().size(), R = rows.size();
+        if (C > limits.maxGridSide || R > limits.maxGridSide ||
+            (C + 1) * (R + 1) > limits.maxNodesPerMesh)
+            fail("mesh of " + std::to_string(C) + " x " + std::to_string(R) +
+                     " patches is over the reader's limits",
+                 array);
+        SvgPatchGrid g;
+        g.resize(static_cast<int>(C), static_cast<int>(R));
+        g.P(0, 0) = origin;
+        for (int r = 0; r < static_cast<int>(R); ++r) {
+            for (int c = 0; c < static_cast<int>(C); ++c) {
+                const XMLElement* patch = rows[r][c];
+                std::vector<const XMLElement*> stops;
+                for (const XMLElement* s = patch->FirstChildElement(); s; s = s->NextSiblingElement())
+                    if (isNamed(s, "stop")) stops.push_back(s);
+                const size_t expected = (r == 0 ? 1 : 0) + (c == 0 ? 1 : 0) + 2;
+                if (stops.size() != expected)
+                    fail("meshpatch " + std::to_string(c + 1) + " of meshrow " +
+                             std::to_string(r + 1) + " has " + std::to_string(stops.size()) +
+                             " stops, expected " + std::to_string(expected),
+                         patch);
+                size_t k = 0;
+                Vec2 end;
+                if (r == 0) {  // top
+                    auto& h = g.H(c, 0);
+                    edge(stops[k], g.P(c, 0), false, h[0], h[1], end);
+                    g.P(c + 1, 0) = end;
+                    if (c == 0) g.C(0, 0) = color(stops[k]);
+                    ++k;
+                }
+                {  // right
+                    auto& h = g.V(c + 1, r);
+                    edge(stops[k], g.P(c + 1, r), false, h[0], h[1], end);
+                    g.P(c + 1, r + 1) = end;
+                    if (r == 0) g.C(c + 1, 0) = color(stops[k]);
+                    ++k;
+                }
+                {  // bottom, right to left
+                    Vec2 h1, h2;
+                    end = g.P(c, r + 1);
+                    edge(stops[k], g.P(c + 1, r + 1), c > 0, h1, h2, end);
+                    g.H(c, r + 1) = {h2, h1};
+                    if (c == 0) g.P(0, r + 1) = end;
+                    g.C(c + 1, r + 1) = color(stops[k]);
+                    ++k;
+                }
+                if (c == 0) {  // left, bottom to top
+                    Vec2 h1, h2;
+                    end = g.P(0, r);
+                    edge(stops[k], g.P(0, r + 1), true, h1, h2, end);
+                    g.V(0, r) = {h2, h1};
+                    g.C(0, r + 1) = color(stops[k]);
+                }
+                if (const char* t = patch->Attribute("tensor")) {
+                    const Vec2 base[4] = {g.P(c, r), g.P(c + 1, r), g.P(c + 1, r + 1), g.P(c, r + 1)};
+                    const char* p = t;
+                    auto& ts = g.tensor[g.patchIndex(c, r)];
+                    for (int q = 0; q < 4; ++q) {
+                        double x = 0, y = 0;
+                        if (!number(p, x, patch, "tensor") || !number(p, y, patch, "tensor"))
+                            fail("tensor attribute needs 8 numbers", patch);
+                        ts[q] = base[q] + Vec2{x, y};
+                    }
+                    skipSeparators(p);
+                    if (*p) fail("tensor attribute has extra text", patch);
+                    g.tensorSet[g.patchIndex(c, r)] = 1;
+                }
+            }
+        }
+        return g;
+    }
+
+    const std::string& file() const { return file_; }
+
+private:
+    std::string file_;
+};
+
+void transformGrid(SvgPatchGrid& g, const Affine& t) {
+    for (Vec2& p : g.corner) p = t.apply(p);
+    for (auto& h : g.hEdge) h = {t.apply(h[0]), t.apply(h[1])};
+    for (auto& h : g.vEdge) h = {t.apply(h[0]), t.apply(h[1])};
+    for (auto& ts : g.tensor)
+        for (Vec2& p : ts) p = t.apply(p);
+}
+
+}  // namespace
+
+Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
+    const uint64_t maxBytes = std::min<uint64_t>(limits.maxFileBytes, SvgReadLimits::maxFileBytes);
+    if (bytes.size() > maxBytes)
+        throw Error("SVG of " + std::to_string(bytes.size()) + " bytes is over the limit of " +
+                        std::to_string(maxBytes),
+                    fileName);
+    // Counted on the raw text, before tinyxml2 allocates a node per element.
+    const uint64_t tags = static_cast<uint64_t>(std::count(bytes.begin(), bytes.end(), '<'));
+    if (tags > SvgReadLimits::maxElements)
+        throw Error("SVG has " + std::to_string(tags) + " tags, over the limit of " +
+                        std::to_string(SvgReadLimits::maxElements),
+                    fileName);
+    // tinyxml2 does not expand DTD entities (so "billion laughs" cannot explode), but a file
+    // that declares them means something we would read differently from other parsers.
+    if (bytes.find("<!ENTITY") != std::string::npos)
+        throw Error("SVG declares XML entities (<!ENTITY>), which are not supported", fileName);
+
+    tinyxml2::XMLDocument xml(true, tinyxml2::PRESERVE_WHITESPACE);
+    const tinyxml2::XMLError err = xml.Parse(bytes.data(), bytes.size());
+    if (err == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED)
+        throw Error("XML elements nested deeper than " +
+                        std::to_string(TINYXML2_MAX_ELEMENT_DEPTH) + " levels",
+                    fileName, "line " + std::to_string(xml.ErrorLineNum()));
+    if (err != tinyxml2::XML_SUCCESS)
+        throw Error(std::string("not well-formed XML (") + xml.ErrorName() + ")", fileName,
+                    "line " + std::to_string(xml.ErrorLineNum()));
+    const XMLElement* root = xml.RootElement();
+    if (!root) throw Error("no root element", fileName);
+    Reader rd(fileName);
+    if (!isNamed(root, "svg")) rd.fail("root element is not <svg>", root);
+
+    // Every element once, iteratively (no recursion on file-controlled depth).
+    std::unordered_map<std::string, const XMLElement*> byId;
+    std::vector<const XMLElement*> painted, meshes;
+    {
+        std::vector<const XMLElement*> stack{root};
+        while (!stack.empty()) {
+            const XMLElement* el = stack.back();
+            stack.pop_back();
+            if (const char* id = el->Attribute("id")) byId.emplace(id, el);
+            if (isNamed(el, "meshgradient")) {
+                meshes.push_back(el);
+                continue;  // its rows are read through the gradient
+            }
+            if (!Reader::urlTarget(Reader::property(el, "fill")).empty()) painted.push_back(el);
+            std::vector<const XMLElement*> children;
+            for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
+                children.push_back(c);
+            for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(*it);
+        }
+    }
+
+    Document doc;
+    // Canvas: the viewBox (our files map it 1:1 to pixels), else width/height.
+    Affine viewBoxShift;
+    double width = -1, height = -1;
+    if (const char* vb = root->Attribute("viewBox")) {
+        const char* p = vb;
+        double v[4];
+        for (double& x : v)
+            if (!rd.number(p, x, root, "viewBox")) rd.fail("viewBox needs four numbers", root);
+        if (!(v[2] > 0 && v[3] > 0)) rd.fail("viewBox has no area", root);
+        viewBoxShift.e = -v[0];
+        viewBoxShift.f = -v[1];
+        width = v[2];
+        height = v[3];
+    } else {
+        width = rd.numberAttribute(root, "width", -1, true);
+        height = rd.numberAttribute(root, "height", -1, true);
+    }
+
+    struct Use {
+        const XMLElement* paint;  // the gradient named by the fill (may href the array)
+        const XMLElement* shape;  // nullptr when no shape paints it
+    };
+    std::vector<Use> uses;
+    for (const XMLElement* el : painted) {
+        const std::string id = Reader::urlTarget(Reader::property(el, "fill"));
+        auto it = byId.find(id);
+        if (it == byId.end() || !isNamed(it->second, "meshgradient")) continue;
+        uses.push_back({it->second, el});
+    }
+    if (uses.empty())
+        for (const XMLElement* m : meshes) uses.push_back({m, nullptr});
+    if (uses.empty()) throw Error("SVG has no meshgradient", fileName);
+    if (uses.size() > limits.maxMeshes)
+        throw Error("SVG has " + std::to_string(uses.size()) + " meshes, over the limit", fileName);
+
+    for (const Use& use : uses) {
+        // Attributes come from the first gradient of the href chain that has them; the rows
+        // from the first that has rows.
+        std::vector<const XMLElement*> chain{use.paint};
+        std::unordered_set<const XMLElement*> seen{use.paint};
+        while (true) {
+            const std::string target = Reader::hrefTarget(chain.back());
+            if (target.empty()) break;
+            auto it = byId.find(target);
+            if (it == byId.end()) rd.fail("href to a missing element '#" + target + "'", chain.back());
+            if (!isNamed(it->second, "meshgradient"))
+                rd.fail("href to <" + std::string(it->second->Name()) + ">, not a meshgradient",
+                        chain.back());
+            if (!seen.insert(it->second).second) rd.fail("href chain has a cycle", chain.back());
+            if (static_cast<int>(chain.size()) >= SvgReadLimits::maxHrefChain)
+                rd.fail("href chain is too long", use.paint);
+            chain.push_back(it->second);
+        }
+        auto attr = [&](const char* name) -> const XMLElement* {
+            for (const XMLElement* g : chain)
+                if (g->Attribute(name)) return g;
+            return nullptr;
+        };
+        const XMLElement* array = nullptr;
+        for (const XMLElement* g : chain) {
+            for (const XMLElement* c = g->FirstChildElement(); c && !array; c = c->NextSiblingElement())
+                if (isNamed(c, "meshrow")) array = g;
+            if (array) break;
+        }
+        if (!array) rd.fail("meshgradient has no meshrow (nor one it links to)", use.paint);
+        const XMLElement* unitsEl = attr("gradientUnits");
+        if (!unitsEl || std::strcmp(unitsEl->Attribute("gradientUnits"), "userSpaceOnUse") != 0)
+            rd.fail("meshgradient must have gradientUnits=\"userSpaceOnUse\" "
+                    "(objectBoundingBox is not supported)",
+                    use.paint);
+        Vec2 origin;
+        if (const XMLElement* e = attr("x")) origin.x = rd.numberAttribute(e, "x", 0, true);
+        if (const XMLElement* e = attr("y")) origin.y = rd.numberAttribute(e, "y", 0, true);
+        bool bicubic = false;
+        if (const XMLElement* e = attr("type")) {
+            const std::string t = e->Attribute("type");
+            if (t == "bicubic")
+                bicubic = true;
+            else if (t != "coons" && t != "bilinear")
+                rd.fail("unsupported meshgradient type '" + t.substr(0, 40) + "'", e);
+        }
+        SvgPatchGrid g = rd.grid(array, origin, limits);
+        g.bicubic = bicubic;
+        Affine t;
+        if (const XMLElement* e = attr("gradientTransform")) t = rd.transformAttribute(e, "gradientTransform");
+        // The shape's own transform and its ancestors' (user space of the root).
+        if (use.shape) {
+            std::vector<const XMLElement*> up;
+            for (const tinyxml2::XMLNode* n = use.shape; n && n->ToElement(); n = n->Parent())
+                up.push_back(n->ToElement());
+            Affine ctm;
+            for (auto it = up.rbegin(); it != up.rend(); ++it)
+                if (*it != root) ctm = compose(ctm, rd.transformAttribute(*it, "transform"));
+            t = compose(ctm, t);
+        }
+        t = compose(viewBoxShift, t);
+        transformGrid(g, t);
+        doc.meshes.push_back(meshFromPatchGrid(g, fileName, rd.describe(use.paint)));
+    }
+
+    if (width <= 0 || height <= 0) {
+        // No usable canvas size: the meshes' bounds.
+        double mx = 1, my = 1;
+        for (const GradientMesh& m : doc.meshes)
+            for (const Node& n : m.nodes) {
+                mx = std::max(mx, n.pos.x);
+                my = std::max(my, n.pos.y);
+            }
+        width = mx;
+        height = my;
+    }
+    if (width > static_cast<double>(limits.maxCanvasSide) ||
+        height > static_cast<double>(limits.maxCanvasSide))
+        throw Error("canvas is larger than the reader's limit", fileName);
+    doc.width = static_cast<int>(std::ceil(width - 1e-9));
+    doc.height = static_cast<int>(std::ceil(height - 1e-9));
+    const std::string problem = validateDocument(doc);
+    if (!problem.empty()) throw Error("meshes read are not valid: " + problem, fileName);
+    return doc;
+}
+
+}  // namespace gm

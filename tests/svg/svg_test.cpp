@@ -1,0 +1,304 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "formats/atomic_file.h"
+#include "formats/svg.h"
+#include "meshcore/error.h"
+#include "meshcore/evaluate.h"
+#include "support/compare.h"
+#include "svg_test_support.h"
+
+using namespace gm;
+
+namespace {
+
+size_t countOf(const std::string& s, const std::string& what) {
+    size_t n = 0;
+    for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
+    return n;
+}
+
+WriteOptions editable() {
+    WriteOptions o;
+    o.svgColors = "editable";
+    return o;
+}
+
+double maxDistance(Vec2 a, Vec2 b) { return std::max(std::fabs(a.x - b.x), std::fabs(a.y - b.y)); }
+double maxDifference(Vec3 a, Vec3 b) {
+    return std::max({std::fabs(a.r - b.r), std::fabs(a.g - b.g), std::fabs(a.b - b.b)});
+}
+
+// A meshgradient from hand-written patches, on a 100×100 canvas.
+std::string svgWith(const std::string& gradientBody, const std::string& extraAttributes = "") {
+    return "<?xml version=\"1.0\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" "
+           "height=\"100\" viewBox=\"0 0 100 100\"><defs><meshgradient id=\"m\" "
+           "gradientUnits=\"userSpaceOnUse\" x=\"10\" y=\"10\"" +
+           extraAttributes + ">" + gradientBody +
+           "</meshgradient></defs><path d=\"M10,10 H60 V60 H10 Z\" fill=\"url(#m)\"/></svg>";
+}
+
+const char* kOnePatch =
+    "<meshrow><meshpatch>"
+    "<stop path=\"c 10,0 40,0 50,0\" stop-color=\"#ff0000\"/>"
+    "<stop path=\"l 0,50\" stop-color=\"#00ff00\"/>"
+    "<stop path=\"c -10,0 -40,0 -50,0\" style=\"stop-color:#0000ff;stop-opacity:1\"/>"
+    "<stop path=\"l 0,-50\" stop-color=\"white\"/>"
+    "</meshpatch></meshrow>";
+
+void requireErrorMentioning(const std::string& svg, const std::string& needle) {
+    try {
+        decodeSvg(svg, ReadLimits{}, "bad.svg");
+        FAIL("no error for input expected to mention '" << needle << "'");
+    } catch (const Error& e) {
+        INFO(e.what());
+        CHECK(std::string(e.what()).find(needle) != std::string::npos);
+        CHECK(std::string(e.what()).find("bad.svg") != std::string::npos);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("svg writer uses the 4/3/3/2 stop structure", "[svg]") {
+    const Document doc = svgtest::curvedDocument();
+    const std::string svg = encodeSvg(doc, editable());
+    const int C = doc.meshes[0].columns(), R = doc.meshes[0].rows();
+    CHECK(countOf(svg, "<meshgradient") == 1);
+    CHECK(countOf(svg, "<meshrow>") == size_t(R));
+    CHECK(countOf(svg, "<meshpatch") == size_t(C * R));
+    CHECK(countOf(svg, "<stop ") == size_t(4 + 3 * (C - 1) + 3 * (R - 1) + 2 * (C - 1) * (R - 1)));
+    CHECK(countOf(svg, "type=\"bicubic\"") == 1);
+    CHECK(svg.find("viewBox=\"0 0 320 260\"") != std::string::npos);
+    CHECK(svg.find("gradientUnits=\"userSpaceOnUse\"") != std::string::npos);
+}
+
+TEST_CASE("svg numbers keep 1e-4 px without accumulating along a row", "[svg]") {
+    // A long row of patches far from the origin: relative offsets are written against the
+    // reader's reconstructed corners, so the error stays at the rounding step.
+    Document doc;
+    doc.width = 40000;
+    doc.height = 200;
+    doc.meshes.push_back(makeCurvedMesh(200, 2, 12345.67891, 20.123456, 20000.0004, 150, 0.3, 5));
+    const Document back = decodeSvg(encodeSvg(doc, editable()), ReadLimits{});
+    REQUIRE(back.meshes.size() == 1);
+    double worst = 0;
+    for (size_t k = 0; k < doc.meshes[0].nodes.size(); ++k)
+        worst = std::max(worst, maxDistance(doc.meshes[0].nodes[k].pos, back.meshes[0].nodes[k].pos));
+    CHECK(worst <= 6e-5);
+}
+
+TEST_CASE("editable svg reads back to the same grid", "[svg][roundtrip]") {
+    const Document doc = svgtest::curvedDocument();
+    const GradientMesh& a = doc.meshes[0];
+    const Document back = decodeSvg(encodeSvg(doc, editable()), ReadLimits{});
+    REQUIRE(back.meshes.size() == 1);
+    const GradientMesh& b = back.meshes[0];
+    REQUIRE(b.columns() == a.columns());
+    REQUIRE(b.rows() == a.rows());
+    CHECK(back.width == doc.width);
+    CHECK(back.height == doc.height);
+    double pos = 0, col = 0, handle = 0;
+    for (int j = 0; j <= a.rows(); ++j)
+        for (int i = 0; i <= a.columns(); ++i) {
+            pos = std::max(pos, maxDistance(a.node(i, j).pos, b.node(i, j).pos));
+            col = std::max(col, maxDifference(a.node(i, j).col, b.node(i, j).col));
+        }
+    // Edge handles (local derivatives) are what the file holds; knots may be rescaled.
+    for (int j = 0; j < a.rows(); ++j)
+        for (int i = 0; i < a.columns(); ++i) {
+            const PatchHermite ha = patchHermite(a, i, j), hb = patchHermite(b, i, j);
+            for (int c = 0; c < 4; ++c) {
+                const HermiteCorner &x = ha.corner[c / 2][c % 2], &y = hb.corner[c / 2][c % 2];
+                handle = std::max({handle, maxDistance(x.posS, y.posS), maxDistance(x.posT, y.posT)});
+            }
+        }
+    CHECK(pos <= 6e-5);
+    CHECK(col <= 0.5 / 255 + 1e-9);
+    CHECK(handle <= 2e-3);
+}
+
+TEST_CASE("exact svg reads back to refined pieces that render like the original",
+          "[svg][roundtrip]") {
+    for (const Document& doc : {svgtest::curvedDocument(), svgtest::holedDocument()}) {
+        SvgEncodeStats stats;
+        const std::string svg = encodeSvg(doc, WriteOptions{}, &stats);
+        const Document back = decodeSvg(svg, ReadLimits{});
+        const int pieces = doc.meshes[0].holeCount() + 1;
+        CHECK(back.meshes.size() == size_t(pieces));
+        CHECK(stats.meshGradients == pieces);
+        int64_t patches = 0;
+        for (const GradientMesh& m : back.meshes) patches += m.patchCount();
+        CHECK(patches == stats.svgPatches);
+        const RgbaImage ours = svgtest::renderOurs(doc, true);
+        const RgbaImage theirs = svgtest::renderOverWhite(back, true);
+        const gmtest::DiffStats d = gmtest::compareInterior(ours, theirs, 1);
+        std::printf("[svg figures] exact round trip (%d hole(s)): %lld SVG patches for %d, max k %d, "
+                    "re-render mean %.4f max %.4f (0-255), %.1f bytes per original patch\n",
+                    doc.meshes[0].holeCount(), static_cast<long long>(stats.svgPatches),
+                    doc.meshes[0].patchCount(), stats.maxSubdivision, d.mean, d.max,
+                    double(svg.size()) / doc.meshes[0].patchCount());
+        CHECK(d.count > 1000);
+        CHECK(d.max <= 1.0);
+    }
+}
+
+TEST_CASE("svg writes a mesh with holes as its legacy pieces", "[svg]") {
+    const Document doc = svgtest::holedDocument();
+    const std::string svg = encodeSvg(doc, editable());
+    CHECK(countOf(svg, "<meshgradient") == 4);
+    CHECK(countOf(svg, "<path ") == 4);
+    const Document back = decodeSvg(svg, ReadLimits{});
+    REQUIRE(back.meshes.size() == 4);
+    int rows = 0;
+    for (const GradientMesh& m : back.meshes) {
+        CHECK(m.columns() == doc.meshes[0].columns());
+        CHECK(m.holeCount() == 0);
+        rows += m.rows();
+    }
+    CHECK(rows == doc.meshes[0].rows());
+    // Legacy pieces render like the whole.
+    const gmtest::DiffStats d =
+        gmtest::compareInterior(svgtest::renderOurs(doc), svgtest::renderOverWhite(back), 1);
+    std::printf("[svg figures] editable legacy round trip re-render: mean %.4f max %.4f\n", d.mean, d.max);
+}
+
+TEST_CASE("svg format is registered and writes atomically", "[svg]") {
+    const MeshFormat* f = FormatRegistry::builtin().forPath("x.SVG");
+    REQUIRE(f);
+    CHECK(f->name() == "svg");
+    const std::string path = svgtest::tmpPath("registered.svg");
+    f->write(svgtest::curvedDocument(), path, WriteOptions{});
+    CHECK(FormatRegistry::builtin().forReading(path) == f);
+    const Document back = f->read(path, ReadOptions{});
+    CHECK(back.meshes.size() == 1);
+    WriteOptions bad;
+    bad.svgColors = "pretty";
+    CHECK_THROWS_AS(f->write(svgtest::curvedDocument(), svgtest::tmpPath("bad.svg"), bad), Error);
+    std::ifstream gone(svgtest::tmpPath("bad.svg"));
+    CHECK(!gone.good());
+}
+
+TEST_CASE("svg reader takes hand-written and Inkscape-style meshgradients", "[svg]") {
+    const Document d = decodeSvg(svgWith(kOnePatch), ReadLimits{});
+    REQUIRE(d.meshes.size() == 1);
+    const GradientMesh& m = d.meshes[0];
+    CHECK(maxDistance(m.node(0, 0).pos, {10, 10}) == 0);
+    CHECK(maxDistance(m.node(1, 1).pos, {60, 60}) == 0);
+    CHECK(maxDifference(m.node(0, 0).col, {1, 0, 0}) == 0);
+    CHECK(maxDifference(m.node(1, 0).col, {0, 1, 0}) == 0);
+    CHECK(maxDifference(m.node(1, 1).col, {0, 0, 1}) == 0);
+    CHECK(maxDifference(m.node(0, 1).col, {1, 1, 1}) == 0);
+
+    // Absolute commands, a gradientTransform and an href to the gradient holding the rows.
+    const std::string linked =
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
+        "width=\"100\" height=\"100\"><defs>"
+        "<meshgradient id=\"rows\"><meshrow><meshpatch>"
+        "<stop path=\"C 20,10 50,10 60,10\" stop-color=\"#ff0000\"/>"
+        "<stop path=\"L 60,60\" stop-color=\"#00ff00\"/>"
+        "<stop path=\"l -50,0\" stop-color=\"#0000ff\"/>"
+        "<stop path=\"c 0,-20 0,-30\" stop-color=\"#ffffff\"/>"
+        "</meshpatch></meshrow></meshgradient>"
+        "<meshgradient id=\"use\" xlink:href=\"#rows\" gradientUnits=\"userSpaceOnUse\" x=\"10\" "
+        "y=\"10\" gradientTransform=\"translate(5,-2)\"/></defs>"
+        "<g transform=\"scale(1)\"><path d=\"M0 0\" style=\"fill:url(#use)\"/></g></svg>";
+    const Document e = decodeSvg(linked, ReadLimits{});
+    REQUIRE(e.meshes.size() == 1);
+    CHECK(maxDistance(e.meshes[0].node(0, 0).pos, {15, 8}) < 1e-12);
+    CHECK(maxDistance(e.meshes[0].node(1, 1).pos, {65, 58}) < 1e-12);
+}
+
+TEST_CASE("svg reader refuses malformed input with a clear error", "[svg][malformed]") {
+    requireErrorMentioning("this is not xml", "XML");
+    requireErrorMentioning("<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0 0\"/></svg>",
+                           "no meshgradient");
+    requireErrorMentioning("<html/>", "not <svg>");
+    // Wrong stop count (3 on the first patch).
+    requireErrorMentioning(svgWith("<meshrow><meshpatch><stop path=\"l 10,0\"/><stop path=\"l "
+                                   "0,10\"/><stop path=\"l -10,0\"/></meshpatch></meshrow>"),
+                           "3 stops, expected 4");
+    // A path with two commands.
+    std::string two = kOnePatch;
+    two.replace(two.find("l 0,50"), 6, "l 0,50 l 1,1");
+    requireErrorMentioning(svgWith(two), "more than one command");
+    std::string bad = kOnePatch;
+    bad.replace(bad.find("#ff0000"), 7, "#ff00zz");
+    requireErrorMentioning(svgWith(bad), "bad stop-color");
+    for (const char* absurd : {"1e308", "nan", "inf", "1e9", "0x10"}) {
+        std::string s = kOnePatch;
+        s.replace(s.find("40,0"), 2, absurd);
+        requireErrorMentioning(svgWith(s), "stop path");
+    }
+    requireErrorMentioning(svgWith("", " gradientTransform=\"matrix(1,0,0,1,1e300,0)\""),
+                           "no meshrow");
+    requireErrorMentioning(svgWith(kOnePatch, " gradientTransform=\"matrix(1,0,0,1,1e300,0)\""),
+                           "out of range");
+    requireErrorMentioning(svgWith(kOnePatch, " gradientTransform=\"warp(2)\""),
+                           "unsupported transform");
+    std::string noUnits = svgWith(kOnePatch);
+    noUnits.replace(noUnits.find("gradientUnits=\"userSpaceOnUse\""), 30, "");
+    requireErrorMentioning(noUnits, "userSpaceOnUse");
+    // Rows of different lengths.
+    std::string ragged = svgWith(std::string(kOnePatch) +
+                                 "<meshrow><meshpatch><stop path=\"l 0,1\"/><stop path=\"l "
+                                 "1,0\"/><stop path=\"l 0,-1\"/></meshpatch><meshpatch><stop "
+                                 "path=\"l 0,1\"/><stop path=\"l 1,0\"/></meshpatch></meshrow>");
+    requireErrorMentioning(ragged, "the first row has 1");
+}
+
+TEST_CASE("svg reader refuses hostile XML", "[svg][malformed]") {
+    SECTION("deep nesting does not overflow the stack") {
+        std::string deep = "<svg xmlns=\"http://www.w3.org/2000/svg\">";
+        for (int k = 0; k < 100000; ++k) deep += "<g>";
+        for (int k = 0; k < 100000; ++k) deep += "</g>";
+        deep += "</svg>";
+        requireErrorMentioning(deep, "nested deeper");
+    }
+    SECTION("entity declarations (billion laughs)") {
+        std::string lol = "<?xml version=\"1.0\"?>\n<!DOCTYPE svg [\n<!ENTITY lol \"lol\">\n";
+        for (int k = 1; k < 10; ++k)
+            lol += "<!ENTITY lol" + std::to_string(k) + " \"" +
+                   std::string(10, '&') + "\">\n";
+        lol += "]>\n<svg xmlns=\"http://www.w3.org/2000/svg\">&lol9;</svg>";
+        requireErrorMentioning(lol, "entities");
+    }
+    SECTION("href cycle") {
+        const std::string cyc =
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\"><defs>"
+            "<meshgradient id=\"a\" href=\"#b\"/><meshgradient id=\"b\" href=\"#a\"/></defs>"
+            "<path d=\"M0 0\" fill=\"url(#a)\"/></svg>";
+        requireErrorMentioning(cyc, "cycle");
+    }
+    SECTION("element count and file size limits") {
+        std::string many = "<svg xmlns=\"http://www.w3.org/2000/svg\">";
+        many.reserve(9u << 22);
+        for (uint64_t k = 0; k <= SvgReadLimits::maxElements; ++k) many += "<g/>";
+        many += "</svg>";
+        requireErrorMentioning(many, "tags, over the limit");
+    }
+    SECTION("a 50 MB file over a reader limit") {
+        const std::string path = svgtest::tmpPath("big.svg");
+        {
+            std::ofstream f(path, std::ios::binary);
+            f << "<svg xmlns=\"http://www.w3.org/2000/svg\">";
+            const std::string chunk(1 << 20, ' ');
+            for (int k = 0; k < 50; ++k) f << chunk;
+            f << "</svg>";
+        }
+        ReadOptions o;
+        o.limits.maxFileBytes = 16u << 20;
+        const MeshFormat* f = FormatRegistry::builtin().byName("svg");
+        REQUIRE(f);
+        try {
+            f->read(path, o);
+            FAIL("a 50 MB file was read");
+        } catch (const Error& e) {
+            CHECK(std::string(e.what()).find("over the limit") != std::string::npos);
+        }
+        std::remove(path.c_str());
+    }
+}
