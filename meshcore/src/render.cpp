@@ -1,0 +1,332 @@
+// The raster re-renderer (render.h). Each mesh is drawn as a layer over its bounding box, in
+// strips of rows:
+//  1. alpha = exact area coverage of the outline loops (outer boundary and holes, nonzero
+//     winding), so the outline is anti-aliased and every interior pixel is exactly opaque;
+//  2. the patches, in order, are cut into micro-triangles (adaptive counts, crack-free) that
+//     are rasterised at pixel centres with an exact fill rule, interpolating the local (s,t);
+//  3. outline pixels whose centre no triangle covers borrow the nearest covered sample;
+//  4. every painted pixel's colour is the patch's bicubic colour evaluated at its (s,t), and
+//     the layer is composited over the image (later meshes over earlier ones).
+// Strips run on worker threads.
+#include "meshcore/render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <thread>
+
+#include "meshcore/error.h"
+#include "render_internal.h"
+
+namespace gm {
+
+using namespace render_detail;
+
+namespace {
+
+// Runs f(k, worker) for k in 0..count-1 on up to `threads` threads (this one included; worker
+// numbers them from 0); rethrows the first exception a worker raised.
+template <class F>
+void parallelFor(int count, int threads, const F& f) {
+    if (threads <= 1 || count <= 1) {
+        for (int k = 0; k < count; ++k) f(k, 0);
+        return;
+    }
+    std::atomic<int> next{0};
+    std::exception_ptr failure;
+    std::atomic<bool> failed{false};
+    auto work = [&](int worker) {
+        for (;;) {
+            const int k = next.fetch_add(1);
+            if (k >= count || failed.load()) return;
+            try {
+                f(k, worker);
+            } catch (...) {
+                if (!failed.exchange(true)) failure = std::current_exception();
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    const int n = std::min(threads, count);
+    pool.reserve(static_cast<size_t>(n) - 1);
+    for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+}
+
+void checkStructure(const GradientMesh& mesh, size_t index) {
+    const int C = mesh.columns(), R = mesh.rows();
+    auto fail = [&](const char* what) {
+        throw Error(std::string("cannot render: ") + what, {}, "mesh " + std::to_string(index));
+    };
+    if (C < 1 || R < 1) fail("the mesh has no patches");
+    if (mesh.nodes.size() != (static_cast<size_t>(C) + 1) * (static_cast<size_t>(R) + 1))
+        fail("node count does not match the grid");
+    for (const Slit& s : mesh.slits) {
+        if (s.row <= 0 || s.row >= R || s.i0 <= 0 || s.i1 >= C || s.i0 >= s.i1 ||
+            s.below.size() != static_cast<size_t>(s.i1 - s.i0 - 1))
+            fail("a slit does not fit the grid");
+    }
+    for (const CornerTangent& t : mesh.tangents)
+        if (t.i < 0 || t.i >= C || t.j < 0 || t.j >= R) fail("a tangent break names no patch");
+}
+
+struct Target {
+    RgbaImage* image;
+    std::vector<PixelSample>* samples;  // null unless wanted
+    int threads;
+    size_t triangles = 0;
+};
+
+// A mesh's layer is processed in strips of kStripRows rows (a fixed height, so the result does
+// not depend on the thread count). Each strip is rasterised with kHaloRows extra rows above and
+// below, so that its outline pixels can borrow samples from just across the strip border.
+constexpr int kStripRows = 64;
+constexpr int kHaloRows = 2;
+
+// One worker's buffers for a strip and its halo, reused from strip to strip.
+struct StripBuffers {
+    std::vector<float> alpha;
+    std::vector<LayerSample> samples;
+    std::vector<uint8_t> kinds;
+    std::vector<double> accumulator;
+    Tessellation tess;
+    std::vector<size_t> pending, queue;
+    std::vector<std::pair<size_t, size_t>> assign;
+};
+
+// Outline pixels (alpha > 0) that no triangle sampled take the sample of the nearest pixel that
+// has one: first from a direct neighbour (edge neighbours before diagonal ones, centre samples
+// before centroid ones), then by breadth-first growth for the rare pixels further away.
+void lendSamples(StripBuffers& B, int W, int H) {
+    B.pending.clear();
+    const size_t n = static_cast<size_t>(W) * H;
+    for (size_t k = 0; k < n; ++k)
+        if (B.kinds[k] == kNoSample && B.alpha[k] > 0) B.pending.push_back(k);
+    if (B.pending.empty()) return;
+    static const int kDx[8] = {-1, 1, 0, 0, -1, 1, -1, 1};
+    static const int kDy[8] = {0, 0, -1, 1, -1, -1, 1, 1};
+    B.assign.clear();
+    for (size_t k : B.pending) {
+        const int x = static_cast<int>(k % W), y = static_cast<int>(k / W);
+        size_t best = 0;
+        int bestRank = 1 << 30;
+        for (int d = 0; d < 8; ++d) {
+            const int xx = x + kDx[d], yy = y + kDy[d];
+            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+            const size_t q = static_cast<size_t>(yy) * W + xx;
+            const uint8_t kind = B.kinds[q];
+            if (kind != kCentreSample && kind != kNearSample) continue;
+            const int rank = (d < 4 ? 0 : 2) + (kind == kCentreSample ? 0 : 1);
+            if (rank < bestRank) {
+                bestRank = rank;
+                best = q;
+            }
+        }
+        if (bestRank < (1 << 30)) B.assign.emplace_back(k, best);
+    }
+    B.queue.clear();
+    for (const auto& [k, src] : B.assign) {
+        B.samples[k] = B.samples[src];
+        B.kinds[k] = kBorrowedSample;
+        B.queue.push_back(k);
+    }
+    for (size_t head = 0; head < B.queue.size(); ++head) {
+        const size_t p = B.queue[head];
+        const int x = static_cast<int>(p % W), y = static_cast<int>(p / W);
+        for (int d = 0; d < 8; ++d) {
+            const int xx = x + kDx[d], yy = y + kDy[d];
+            if (xx < 0 || yy < 0 || xx >= W || yy >= H) continue;
+            const size_t q = static_cast<size_t>(yy) * W + xx;
+            if (B.kinds[q] == kNoSample && B.alpha[q] > 0) {
+                B.samples[q] = B.samples[p];
+                B.kinds[q] = kBorrowedSample;
+                B.queue.push_back(q);
+            }
+        }
+    }
+}
+
+void renderLayer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
+                 Target& target) {
+    RgbaImage& image = *target.image;
+    const int imageW = image.width, imageH = image.height;
+    if (imageW <= 0 || imageH <= 0) return;
+    const PreparedMesh pm = prepareMesh(mesh, options, imageW, imageH);
+    if (pm.maxX < pm.minX) return;  // nothing finite
+
+    // The layer: the mesh's bounds with one pixel of margin (anti-aliasing, fixed-point
+    // rounding), clipped to the image.
+    const double bx0 = std::max(0.0, std::floor(pm.minX) - 1);
+    const double by0 = std::max(0.0, std::floor(pm.minY) - 1);
+    const double bx1 = std::min<double>(imageW, std::ceil(pm.maxX) + 2);
+    const double by1 = std::min<double>(imageH, std::ceil(pm.maxY) + 2);
+    if (!(bx1 > bx0 && by1 > by0)) return;
+    const int originX = static_cast<int>(bx0), originY = static_cast<int>(by0);
+    const int width = static_cast<int>(bx1) - originX, height = static_cast<int>(by1) - originY;
+
+    std::vector<std::vector<Vec2>> loops;
+    if (options.antialias) {
+        double tol = options.positionTolerance;
+        if (!(tol > 0) || !std::isfinite(tol)) tol = 0.125;
+        // Much finer than the triangles: the outline decides alpha, and a chord 1/256 px off
+        // the curve changes a pixel's area by under 1/255.
+        loops = outlineLoops(mesh, options.scale, std::max(std::min(tol, 0.125) / 32, 1e-5));
+    }
+
+    // Layer rows each visible patch touches, inclusive.
+    const int patchCount = static_cast<int>(pm.patches.size());
+    std::vector<int> rowLo(static_cast<size_t>(patchCount)), rowHi(rowLo.size());
+    for (int p = 0; p < patchCount; ++p) {
+        const PreparedPatch& P = pm.patches[static_cast<size_t>(p)];
+        if (!P.visible) continue;
+        const double lo = std::floor(P.minY) - 1 - originY, hi = std::ceil(P.maxY) + 1 - originY;
+        rowLo[p] = static_cast<int>(std::max(0.0, std::min(lo, height - 1.0)));
+        rowHi[p] = static_cast<int>(std::max(0.0, std::min(hi, height - 1.0)));
+    }
+
+    const int strips = (height + kStripRows - 1) / kStripRows;
+    const int workers = std::max(1, std::min(target.threads, strips));
+    std::vector<StripBuffers> buffers(static_cast<size_t>(workers));
+    std::atomic<size_t> triangleCount{0};
+
+    parallelFor(strips, workers, [&](int strip, int worker) {
+        StripBuffers& B = buffers[static_cast<size_t>(worker)];
+        const int core0 = strip * kStripRows, core1 = std::min(height, core0 + kStripRows);
+        const int ext0 = std::max(0, core0 - kHaloRows), ext1 = std::min(height, core1 + kHaloRows);
+        const int rows = ext1 - ext0;
+        const size_t n = static_cast<size_t>(width) * rows;
+        B.alpha.assign(n, 0.0f);
+        B.kinds.assign(n, kNoSample);
+        if (B.samples.size() < n) B.samples.resize(n);
+        LayerRows view;  // buffer row 0 is layer row ext0
+        view.originX = originX;
+        view.originY = originY + ext0;
+        view.width = width;
+        view.y0 = 0;
+        view.y1 = rows;
+
+        if (options.antialias) accumulateCoverage(loops, view, B.accumulator, B.alpha.data());
+
+        size_t owned = 0;
+        const int64_t top = int64_t(view.originY) << kSubpixelBits;
+        const int64_t bottom = int64_t(view.originY + rows) << kSubpixelBits;
+        for (int p = 0; p < patchCount; ++p) {
+            if (!pm.patches[static_cast<size_t>(p)].visible) continue;
+            if (rowHi[p] < ext0 || rowLo[p] >= ext1) continue;
+            tessellatePatch(pm, p, B.tess);
+            const TessVertex* v = B.tess.vertices.data();
+            const int* tri = B.tess.triangles.data();
+            const size_t count = B.tess.triangles.size() / 3;
+            for (size_t k = 0; k < count; ++k) {
+                const TessVertex &a = v[tri[3 * k]], &b = v[tri[3 * k + 1]], &c = v[tri[3 * k + 2]];
+                if (std::max({a.Y, b.Y, c.Y}) < top || std::min({a.Y, b.Y, c.Y}) >= bottom)
+                    continue;
+                rasterizeTriangle(a, b, c, p, view, B.samples.data(), B.kinds.data());
+            }
+            if (rowLo[p] >= core0 && rowLo[p] < core1) owned += count;  // each patch once
+        }
+        triangleCount += owned;
+
+        if (options.antialias) {
+            lendSamples(B, width, rows);
+        } else {
+            for (size_t k = 0; k < n; ++k) B.alpha[k] = B.kinds[k] == kCentreSample ? 1.0f : 0.0f;
+        }
+
+        // Shade the strip's own rows and composite (straight alpha "over"; exact copies where
+        // nothing shows through).
+        for (int y = core0; y < core1; ++y) {
+            const size_t rowBase = static_cast<size_t>(y - ext0) * width;
+            const int oy = originY + y;
+            float* outRow = image.at(originX, oy);
+            PixelSample* sampleRow =
+                target.samples ? &(*target.samples)[static_cast<size_t>(oy) * imageW + originX]
+                               : nullptr;
+            for (int x = 0; x < width; ++x) {
+                const size_t k = rowBase + x;
+                const uint8_t kind = B.kinds[k];
+                if (kind == kNoSample) continue;
+                float a = B.alpha[k];
+                // A covered centre in a pixel the outline does not touch at all (chords stay
+                // within 1/8 px of the outline, so this is no rounding matter) lies where a
+                // folded mesh overlaps itself with opposite orientations and the windings
+                // cancel; the patches still paint it.
+                if (a == 0.0f && kind == kCentreSample) a = 1.0f;
+                if (!(a > 0)) continue;
+                const LayerSample& S = B.samples[k];
+                const PreparedPatch& P = pm.patches[static_cast<size_t>(S.patch)];
+                float col[3];
+                P.colour.eval(S.s, S.t, col);
+                float* out = outRow + 4 * static_cast<size_t>(x);
+                const float d = out[3];
+                if (a >= 1.0f || d <= 0.0f) {
+                    out[0] = col[0], out[1] = col[1], out[2] = col[2], out[3] = a;
+                } else {
+                    const float under = d * (1 - a), total = a + under;
+                    for (int c = 0; c < 3; ++c) out[c] = (col[c] * a + out[c] * under) / total;
+                    out[3] = total;
+                }
+                if (sampleRow) {
+                    PixelSample& ps = sampleRow[x];
+                    const bool centre = kind == kCentreSample;
+                    // The topmost mesh covering the centre names the pixel; a mesh that only
+                    // reaches it with its anti-aliased outline does so when nothing below
+                    // covers the centre or when it hides what is below.
+                    if (centre || !ps.centre || a >= 1.0f) {
+                        ps.mesh = meshIndex;
+                        ps.patch = S.patch;
+                        ps.s = S.s;
+                        ps.t = S.t;
+                        ps.centre = centre;
+                    }
+                }
+            }
+        }
+    });
+    target.triangles += triangleCount.load();
+}
+
+int outputSide(int canvas, double scale) {
+    const double side = std::round(std::max(canvas, 0) * scale);
+    if (!(side <= kMaxOutputSide))
+        throw Error("render size too large: " + std::to_string(side) + " pixels along a side");
+    return static_cast<int>(side);
+}
+
+RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int canvasWidth,
+                          int canvasHeight, const RenderOptions& options) {
+    if (!(options.scale > 0) || !std::isfinite(options.scale))
+        throw Error("render scale must be a positive number, not " + std::to_string(options.scale));
+    for (size_t m = 0; m < meshes.size(); ++m) checkStructure(*meshes[m], m);
+    const int W = outputSide(canvasWidth, options.scale);
+    const int H = outputSide(canvasHeight, options.scale);
+    RenderResult result;
+    result.image = RgbaImage(W, H);
+    if (options.wantSamples) result.samples.assign(static_cast<size_t>(W) * H, PixelSample{});
+    int threads = options.threads;
+    if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    Target target{&result.image, options.wantSamples ? &result.samples : nullptr, threads};
+    for (size_t m = 0; m < meshes.size(); ++m)
+        renderLayer(*meshes[m], static_cast<int>(m), options, target);
+    result.triangles = target.triangles;
+    return result;
+}
+
+}  // namespace
+
+RenderResult renderDocument(const Document& doc, const RenderOptions& options) {
+    std::vector<const GradientMesh*> meshes;
+    for (const GradientMesh& m : doc.meshes) meshes.push_back(&m);
+    return renderMeshes(meshes, doc.width, doc.height, options);
+}
+
+RenderResult renderMesh(const GradientMesh& mesh, int canvasWidth, int canvasHeight,
+                        const RenderOptions& options) {
+    return renderMeshes({&mesh}, canvasWidth, canvasHeight, options);
+}
+
+}  // namespace gm
