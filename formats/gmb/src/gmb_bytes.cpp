@@ -43,7 +43,7 @@ void ByteReader::fail(const std::string& what) const {
 
 void ByteReader::need(uint64_t n, const std::string& what) const {
     if (n > remaining())
-        fail("truncated: " + what + " needs " + std::to_string(n) + " bytes, " +
+        fail("truncated: " + std::to_string(n) + " bytes needed for " + what + ", " +
              std::to_string(remaining()) + " remain");
 }
 
@@ -131,28 +131,33 @@ std::string inflateZstd(const char* data, size_t size, uint64_t rawSize, const O
     ZSTD_inBuffer in{data, size, 0};
     size_t used = 0;
     for (;;) {
-        if (used == rawSize) {
-            // Everything declared has arrived: the frame must end here with no input left.
-            char probe;
-            ZSTD_outBuffer o{&probe, 1, 0};
-            const size_t r = ZSTD_decompressStream(ctx, &o, &in);
-            if (ZSTD_isError(r)) failCodec(origin, std::string("corrupt zstd data (") + ZSTD_getErrorName(r) + ")");
-            if (o.pos > 0) failCodec(origin, "compressed data is larger than its declared size " + std::to_string(rawSize));
-            if (r != 0) failCodec(origin, "compressed data ends early (declared " + std::to_string(rawSize) + " bytes)");
+        // Once everything declared has arrived, a one-byte probe catches a stream that is longer.
+        char probe;
+        const bool full = used == rawSize;
+        if (!full) growOutput(out, used, rawSize);
+        ZSTD_outBuffer o = full ? ZSTD_outBuffer{&probe, 1, 0} : ZSTD_outBuffer{&out[0], out.size(), used};
+        const size_t inBefore = in.pos;
+        const size_t r = ZSTD_decompressStream(ctx, &o, &in);
+        if (ZSTD_isError(r))
+            failCodec(origin, std::string("corrupt zstd data (") + ZSTD_getErrorName(r) + ")");
+        if (full && o.pos > 0)
+            failCodec(origin, "compressed data is larger than its declared size " + std::to_string(rawSize));
+        bool progressed = in.pos != inBefore;
+        if (!full) {
+            progressed = progressed || o.pos != used;
+            used = o.pos;
+        }
+        if (r == 0) {  // the frame is complete
             if (in.pos != in.size) failCodec(origin, "data after the end of the compressed stream");
+            if (used != rawSize)
+                failCodec(origin, "compressed data ends after " + std::to_string(used) +
+                                      " bytes; its declared size is " + std::to_string(rawSize));
             out.resize(used);
             return out;
         }
-        growOutput(out, used, rawSize);
-        ZSTD_outBuffer o{&out[0], out.size(), used};
-        const size_t before = in.pos;
-        const size_t r = ZSTD_decompressStream(ctx, &o, &in);
-        if (ZSTD_isError(r)) failCodec(origin, std::string("corrupt zstd data (") + ZSTD_getErrorName(r) + ")");
-        const bool progressed = o.pos != used || in.pos != before;
-        used = o.pos;
-        if (used < rawSize && (!progressed || (r == 0 && in.pos == in.size)))
-            failCodec(origin, "compressed data ends after " + std::to_string(used) +
-                                  " bytes; its declared size is " + std::to_string(rawSize));
+        if (!progressed)
+            failCodec(origin, "compressed stream is incomplete after " + std::to_string(used) +
+                                  " of its declared " + std::to_string(rawSize) + " bytes");
     }
 }
 

@@ -41,6 +41,35 @@ enum Field { kKnot = 0, kPos, kPosU, kPosV, kCol, kColU, kColV, kFieldCount };
 constexpr int64_t kMaxQuantized = int64_t(1) << 53;
 constexpr int kMaxExponent = 960;  // |exponent|: keeps q · 2^e finite and normal
 
+// A node record lists 15 components in this order: pos.x pos.y posU.x posU.y posV.x posV.y
+// col.r col.g col.b colU.r colU.g colU.b colV.r colV.g colV.b; the last six are left out when
+// colour derivatives are omitted.
+constexpr int kNodeComponents = 15;
+constexpr int kNodeComponentsByRule = 9;
+
+inline double& nodeComponent(Node& n, int k) {
+    switch (k) {
+        case 0: return n.pos.x;
+        case 1: return n.pos.y;
+        case 2: return n.posU.x;
+        case 3: return n.posU.y;
+        case 4: return n.posV.x;
+        case 5: return n.posV.y;
+        case 6: case 7: case 8: return n.col[k - 6];
+        case 9: case 10: case 11: return n.colU[k - 9];
+        default: return n.colV[k - 12];
+    }
+}
+inline double nodeComponent(const Node& n, int k) { return nodeComponent(const_cast<Node&>(n), k); }
+
+// The quantisation exponent that applies to node-record component k.
+inline Field fieldOfComponent(int k) {
+    static constexpr Field fields[kNodeComponents] = {kPos,  kPos,  kPosU, kPosU, kPosV,
+                                                      kPosV, kCol,  kCol,  kCol,  kColU,
+                                                      kColU, kColU, kColV, kColV, kColV};
+    return fields[k];
+}
+
 // Appends little-endian fixed-width fields and LEB128 varints.
 class ByteWriter {
 public:

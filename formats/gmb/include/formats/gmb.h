@@ -10,18 +10,39 @@ namespace gm {
 
 std::unique_ptr<MeshFormat> makeGmbFormat();
 
-// In-memory encode/decode (the format object reads/writes files through these).
-// `compact`: quantised + compressed, within the bounds below; otherwise lossless (bit-exact).
+// In-memory encode/decode (the format object reads/writes files through these). The layout,
+// version 1.0, is specified at the top of formats/gmb/src/gmb_format.cpp.
+// `compact`: quantised + zstd-compressed, within the bounds below; otherwise lossless: every
+// double stored bit for bit. Throws gm::Error (without a file name) for a document that fails
+// validateDocument.
 std::string encodeGmb(const Document& doc, bool compact);
 // Throws gm::Error naming `fileName` and the byte offset on any malformed input; checks every
-// count against the bytes that remain and against `limits` before allocating.
+// count against the bytes that remain and against `limits` before allocating. The decoded
+// (uncompressed) data may not exceed limits.maxFileBytes either, so a small compressed file
+// cannot expand without bound. The result always passes validateDocument.
 Document decodeGmb(const std::string& bytes, const ReadLimits& limits,
                    const std::string& fileName = "<memory>");
 
-// Stated maximum errors of compact mode.
+// Stated maximum errors of compact mode, per value, between a mesh and its compact round trip
+// (positions are rounded to a 1/32 px grid, colours to 1/256: at most 1/512 off).
+// Derivative bounds are stated for the derivative times any knot interval of its direction
+// (Δu for x_u and c_u, Δv for x_v and c_v), which is what a patch uses (gradient_mesh.h): the
+// tangent of every patch edge is within the bound, whatever the knot scale. They apply to node
+// derivatives, slit-copy derivatives, slit-end tangents and corner tangent breaks. The ±d
+// structure of slit ends holds exactly (d is stored once), and knots stay strictly increasing.
+// A mesh whose values do not fit the quantisation grid (coordinates beyond ±2^47 px,
+// knots larger than about 2^30 times the smallest knot interval) is stored as float64, exactly.
 struct GmbCompactBounds {
-    static constexpr double position = 1.0 / 64.0;  // pixels, node positions
-    static constexpr double color = 0.5 / 255.0;    // 0–1 units, node colours
+    static constexpr double position = 1.0 / 64.0;         // pixels, node positions
+    static constexpr double color = 0.5 / 255.0;           // 0–1 units, node colours
+    static constexpr double positionTangent = 1.0 / 64.0;  // pixels: |error of x_u| · Δu
+    static constexpr double colorTangent = 0.5 / 255.0;    // 0–1 units: |error of c_u| · Δu
+    // Each knot is within this fraction of the mesh's smallest knot interval.
+    static constexpr double knotRelative = 1.0 / (1 << 22);
 };
+// Colour derivatives that follow the colour rule (meshcore/color_rule.h, followsColorRule) are
+// not stored in compact mode: the reader recomputes them with applyColorRule from the decoded
+// colours, knots and positions. They then follow the rule exactly, and differ from the written
+// ones only by what the colour and position quantisation changes in the rule's inputs.
 
 }  // namespace gm

@@ -1,0 +1,515 @@
+// The .gmb reader (layout: gmb_format.cpp). Everything in the input is untrusted: each count is
+// checked against the limits and the bytes that remain before it sizes an allocation, and all
+// size arithmetic is 64-bit and saturating.
+#include <climits>
+#include <cmath>
+#include <cstring>
+
+#include "formats/gmb.h"
+#include "gmb_pvt.h"
+#include "meshcore/color_rule.h"
+#include "meshcore/error.h"
+#include "meshcore/validate.h"
+
+namespace gm {
+
+namespace {
+
+using namespace gmb;
+
+// DOCU and MESH may grow by appended fields in later minors, but never beyond this.
+constexpr uint64_t kMaxHeaderPayload = 4096;
+
+bool isKnownTag(const std::string& t) {
+    return t == "DOCU" || t == "MESH" || t == "KNOT" || t == "NODE" || t == "SLIT" ||
+           t == "TANG" || t == "END ";
+}
+
+// Tags may be any bytes in a hostile file; print them readably.
+std::string printableTag(const std::string& t) {
+    std::string s;
+    for (unsigned char c : t) {
+        if (c >= 0x20 && c < 0x7f) {
+            s += static_cast<char>(c);
+        } else {
+            static const char hex[] = "0123456789abcdef";
+            s += "\\x";
+            s += hex[c >> 4];
+            s += hex[c & 15];
+        }
+    }
+    return s;
+}
+
+struct Section {
+    std::string tag;
+    uint8_t flags = 0;
+    uint8_t codec = 0;
+    uint64_t start = 0;  // file offset of the section header
+    uint64_t stored = 0, raw = 0;
+};
+
+// A section's payload ready to parse: a view into the file when stored, else inflated bytes.
+struct Payload {
+    std::string inflated;
+    ByteReader reader{nullptr, 0, {}};
+};
+
+struct MeshHeader {
+    uint64_t columns = 0, rows = 0, slits = 0, tangents = 0;
+    Encoding encoding = Encoding::Float64;
+    bool byRule = false;
+    int exponent[kFieldCount] = {};
+    int components() const { return byRule ? kNodeComponentsByRule : kNodeComponents; }
+    uint64_t nodes() const { return satMul(columns + 1, rows + 1); }
+};
+
+class Decoder {
+public:
+    Decoder(const std::string& bytes, const ReadLimits& limits, const std::string& file)
+        : bytes_(bytes), limits_(limits), file_(file) {}
+
+    Document run();
+
+private:
+    [[noreturn]] void fail(const std::string& what, uint64_t at) const {
+        throw Error(what, file_, "byte " + std::to_string(at));
+    }
+    void readFileHeader();
+    Section next(const char* expected);
+    void open(const Section& s, uint64_t maxRaw, Payload& p);
+    void finish(const Payload& p, const Section& s) const;
+
+    MeshHeader readMeshHeader(ByteReader& r, const Section& s);
+    void readKnots(ByteReader& r, const MeshHeader& h, GradientMesh& m);
+    void readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m);
+    void readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m);
+    void readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m);
+
+    double quantized(ByteReader& r, int64_t q, int exponent) const;
+    void readNodeRecord(ByteReader& r, const MeshHeader& h, Node& n, size_t above);
+
+    const std::string& bytes_;
+    const ReadLimits& limits_;
+    const std::string& file_;
+    uint64_t pos_ = 0;
+    uint16_t minor_ = 0;
+    uint64_t decodedBytes_ = 0;  // sum of declared uncompressed sizes so far
+    std::string meshName_;       // "mesh 3", for section names in messages
+    std::vector<int64_t> planes_;  // quantised NODE values of the current mesh, per component
+};
+
+void Decoder::readFileHeader() {
+    const size_t n = bytes_.size();
+    if (n == 0) throw Error("empty file: not a .gmb file", file_);
+    if (n > limits_.maxFileBytes)
+        throw Error("file is " + std::to_string(n) + " bytes, over the limit of " +
+                        std::to_string(limits_.maxFileBytes),
+                    file_);
+    const size_t m = std::min(n, sizeof kMagic);
+    if (std::memcmp(bytes_.data(), kMagic, m) != 0) {
+        // Name the usual accidents: line endings rewritten by a text-mode transfer, a text file.
+        if (n >= 5 && std::memcmp(bytes_.data(), kMagic, 4) == 0 && bytes_[4] == '\n')
+            throw Error("bad magic: line endings were converted (text-mode transfer?); not a valid .gmb file",
+                        file_, "byte 4");
+        bool text = true;
+        for (size_t k = 0; k < std::min<size_t>(n, 64); ++k) {
+            const auto c = static_cast<unsigned char>(bytes_[k]);
+            if (c < 0x09 || (c > 0x0d && c < 0x20) || c == 0x7f) text = false;
+        }
+        throw Error(text ? "bad magic: not a .gmb file (looks like text)" : "bad magic: not a .gmb file",
+                    file_, "byte 0");
+    }
+    if (n < kFileHeaderSize)
+        fail("truncated in the file header (" + std::to_string(n) + " of " +
+                 std::to_string(kFileHeaderSize) + " bytes)",
+             n);
+    ByteReader r(bytes_.data() + sizeof kMagic, 4, Origin{file_, {}, sizeof kMagic});
+    const uint16_t major = r.u16();
+    minor_ = r.u16();
+    if (major != kMajor)
+        fail("unsupported .gmb major version " + std::to_string(major) + " (this reader knows " +
+                 std::to_string(kMajor) + ")",
+             8);
+    pos_ = kFileHeaderSize;
+}
+
+// The next section the document structure expects, skipping optional sections this reader does
+// not know. The section's CRC has been checked; pos_ is past it.
+Section Decoder::next(const char* expected) {
+    const std::string want = expected;
+    for (;;) {
+        const uint64_t left = bytes_.size() - pos_;
+        if (left == 0) fail("truncated: the file ends before section " + want, pos_);
+        if (left < kSectionHeaderSize)
+            fail("truncated in the header of the section expected to be " + want, pos_);
+        Section s;
+        s.start = pos_;
+        ByteReader r(bytes_.data() + pos_, kSectionHeaderSize, Origin{file_, {}, pos_});
+        s.tag.assign(bytes_.data() + pos_, 4);
+        r.skip(4);
+        s.flags = r.u8();
+        s.codec = r.u8();
+        r.u16();  // reserved
+        s.stored = r.u64();
+        s.raw = r.u64();
+        const std::string name = printableTag(s.tag);
+        const uint64_t after = left - kSectionHeaderSize;
+        if (s.stored > after || after - s.stored < kCrcSize)
+            fail("truncated in section " + name + ": its " + std::to_string(s.stored) +
+                     "-byte payload and CRC need " + std::to_string(satAdd(s.stored, kCrcSize)) +
+                     " bytes, " + std::to_string(after) + " remain",
+                 s.start);
+        const size_t covered = kSectionHeaderSize + static_cast<size_t>(s.stored);
+        ByteReader crcField(bytes_.data() + pos_ + covered, kCrcSize, Origin{file_, {}, pos_ + covered});
+        const uint32_t storedCrc = crcField.u32();
+        const uint32_t crc = crc32Of(bytes_.data() + pos_, covered);
+        if (crc != storedCrc)
+            fail("CRC mismatch in section " + name + " (the file is damaged)", s.start);
+        pos_ += covered + kCrcSize;
+        if (isKnownTag(s.tag)) {
+            if (s.tag != want)
+                fail("section " + name + " out of place: expected " + want, s.start);
+            return s;
+        }
+        if (!(s.flags & kSectionOptional))
+            fail("unknown required section '" + name + "' (file version 1." + std::to_string(minor_) +
+                     "; this reader knows 1." + std::to_string(kMinor) + ")",
+                 s.start);
+    }
+}
+
+// Makes the payload of a known section readable, refusing declared sizes beyond what its counts
+// allow (`maxRaw`) or beyond the document's budget before inflating anything.
+void Decoder::open(const Section& s, uint64_t maxRaw, Payload& p) {
+    const std::string name = meshName_.empty() || s.tag == "DOCU" || s.tag == "END "
+                                 ? s.tag
+                                 : s.tag + " (" + meshName_ + ")";
+    if (s.raw > maxRaw)
+        fail("section " + name + " declares " + std::to_string(s.raw) +
+                 " uncompressed bytes; its counts allow at most " + std::to_string(maxRaw),
+             s.start);
+    decodedBytes_ = satAdd(decodedBytes_, s.raw);
+    if (decodedBytes_ > limits_.maxFileBytes)
+        fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
+                 " bytes (section " + name + ")",
+             s.start);
+    const uint64_t payloadAt = s.start + kSectionHeaderSize;
+    const char* data = bytes_.data() + payloadAt;
+    const size_t size = static_cast<size_t>(s.stored);
+    if (s.codec == static_cast<uint8_t>(Codec::Stored)) {
+        if (s.raw != s.stored)
+            fail("section " + name + " is stored uncompressed but declares " +
+                     std::to_string(s.raw) + " bytes for a " + std::to_string(s.stored) +
+                     "-byte payload",
+                 s.start);
+        p.reader = ByteReader(data, size, Origin{file_, name, payloadAt});
+        return;
+    }
+    if (s.codec != static_cast<uint8_t>(Codec::Deflate) && s.codec != static_cast<uint8_t>(Codec::Zstd))
+        fail("unknown compression method " + std::to_string(s.codec) + " in section " + name, s.start);
+    const Origin origin{file_, name, 0, true, s.start};
+    p.inflated = decompressPayload(static_cast<Codec>(s.codec), data, size, s.raw, origin);
+    p.reader = ByteReader(p.inflated.data(), p.inflated.size(), origin);
+}
+
+void Decoder::finish(const Payload& p, const Section& s) const {
+    if (p.reader.remaining() != 0)
+        p.reader.fail(std::to_string(p.reader.remaining()) + " unexpected bytes at the end of the " +
+                      s.tag + " payload");
+}
+
+double Decoder::quantized(ByteReader& r, int64_t q, int exponent) const {
+    if (q > kMaxQuantized || q < -kMaxQuantized) r.fail("quantised value out of range");
+    return std::ldexp(static_cast<double>(q), exponent);
+}
+
+MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
+    MeshHeader h;
+    r.need(kMeshPayloadSize, "the mesh header");
+    h.columns = r.u32();
+    h.rows = r.u32();
+    h.slits = r.u32();
+    h.tangents = r.u32();
+    const uint8_t encoding = r.u8();
+    const uint8_t flags = r.u8();
+    for (int& e : h.exponent) e = r.i16();
+    const std::string at = meshName_ + ": ";
+    if (h.columns == 0 || h.rows == 0)
+        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) + " is empty", s.start);
+    const uint64_t side = std::min<uint64_t>(limits_.maxGridSide, INT_MAX - 1);
+    if (h.columns > side || h.rows > side)
+        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) +
+                 " exceeds the limit of " + std::to_string(side) + " columns or rows",
+             s.start);
+    if (h.nodes() > limits_.maxNodesPerMesh)
+        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) + " has " +
+                 std::to_string(h.nodes()) + " nodes, over the limit of " +
+                 std::to_string(limits_.maxNodesPerMesh),
+             s.start);
+    if (h.slits > limits_.maxSlitsPerMesh)
+        fail(at + std::to_string(h.slits) + " slits exceed the limit of " +
+                 std::to_string(limits_.maxSlitsPerMesh),
+             s.start);
+    // Slits lie on interior rows and do not touch: at most C/2 per row.
+    if (h.slits > satMul(h.rows - 1, h.columns / 2))
+        fail(at + std::to_string(h.slits) + " slits cannot fit a " + std::to_string(h.columns) + "x" +
+                 std::to_string(h.rows) + " grid",
+             s.start);
+    if (h.tangents > satMul(4, satMul(h.columns, h.rows)))
+        fail(at + std::to_string(h.tangents) + " tangent breaks for only " +
+                 std::to_string(h.columns * h.rows) + " patches",
+             s.start);
+    if (encoding > static_cast<uint8_t>(Encoding::Quantized))
+        fail(at + "unknown mesh encoding " + std::to_string(encoding), s.start);
+    h.encoding = static_cast<Encoding>(encoding);
+    h.byRule = flags & kMeshColorByRule;
+    for (int e : h.exponent)
+        if (e < -kMaxExponent || e > kMaxExponent)
+            fail(at + "quantisation exponent " + std::to_string(e) + " out of range", s.start);
+    // A newer minor may append fields; version 1.0 files must be exact.
+    if (minor_ == 0 && r.remaining() != 0)
+        r.fail(std::to_string(r.remaining()) + " unexpected bytes at the end of the MESH payload");
+    r.skip(r.remaining());
+    return h;
+}
+
+void Decoder::readKnots(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
+    const uint64_t count = h.columns + h.rows + 2;
+    if (h.encoding == Encoding::Float64) {
+        r.need(8 * count, "the knots");
+        m.u.resize(static_cast<size_t>(h.columns + 1));
+        m.v.resize(static_cast<size_t>(h.rows + 1));
+        for (double& x : m.u) x = r.f64();
+        for (double& x : m.v) x = r.f64();
+        return;
+    }
+    r.need(count, "the knots");
+    for (std::vector<double>* k : {&m.u, &m.v}) {
+        k->resize(static_cast<size_t>((k == &m.u ? h.columns : h.rows) + 1));
+        int64_t q = r.svarint();
+        (*k)[0] = quantized(r, q, h.exponent[kKnot]);
+        for (size_t i = 1; i < k->size(); ++i) {
+            const uint64_t step = r.varint();
+            if (step == 0) r.fail("knots not strictly increasing");
+            if (step > uint64_t(2) * kMaxQuantized) r.fail("knot interval out of range");
+            q += static_cast<int64_t>(step);  // both within 2^54: no overflow
+            (*k)[i] = quantized(r, q, h.exponent[kKnot]);
+        }
+    }
+}
+
+void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
+    const int F = h.components();
+    const uint64_t n = h.nodes();
+    const size_t C1 = static_cast<size_t>(h.columns + 1);
+    if (h.encoding == Encoding::Float64) {
+        r.need(satMul(n, 8 * F), "the nodes");
+        m.nodes.resize(static_cast<size_t>(n));
+        for (Node& node : m.nodes)
+            for (int c = 0; c < F; ++c) nodeComponent(node, c) = r.f64();
+        return;
+    }
+    r.need(satMul(n, F), "the nodes");  // at least one byte per value
+    m.nodes.resize(static_cast<size_t>(n));
+    planes_.assign(static_cast<size_t>(n) * F, 0);
+    for (int c = 0; c < F; ++c) {
+        int64_t* q = &planes_[c * static_cast<size_t>(n)];
+        const int e = h.exponent[fieldOfComponent(c)];
+        for (size_t k = 0; k < n; ++k) {
+            const size_t i = k % C1, j = k / C1;
+            int64_t pred = 0;  // decoded values are within 2^53: the sum cannot overflow
+            if (i > 0 && j > 0) pred = q[k - 1] + q[k - C1] - q[k - C1 - 1];
+            else if (i > 0) pred = q[k - 1];
+            else if (j > 0) pred = q[k - C1];
+            // Residuals are arbitrary 64-bit numbers: add in unsigned (wrapping) arithmetic and
+            // let the range check reject the result.
+            q[k] = static_cast<int64_t>(static_cast<uint64_t>(pred) + static_cast<uint64_t>(r.svarint()));
+            nodeComponent(m.nodes[k], c) = quantized(r, q[k], e);
+        }
+    }
+}
+
+// One below-copy node record; `above` indexes the node over the slit in the same column.
+void Decoder::readNodeRecord(ByteReader& r, const MeshHeader& h, Node& n, size_t above) {
+    const int F = h.components();
+    const size_t count = planes_.size() / static_cast<size_t>(F);
+    for (int c = 0; c < F; ++c) {
+        if (h.encoding == Encoding::Float64) {
+            nodeComponent(n, c) = r.f64();
+        } else {
+            const int64_t q = static_cast<int64_t>(static_cast<uint64_t>(planes_[c * count + above]) +
+                                                   static_cast<uint64_t>(r.svarint()));
+            nodeComponent(n, c) = quantized(r, q, h.exponent[fieldOfComponent(c)]);
+        }
+    }
+}
+
+void Decoder::readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
+    const bool f64 = h.encoding == Encoding::Float64;
+    const int endValues = h.byRule ? 2 : 5;
+    const uint64_t minSlit = f64 ? 12 + 2 * 8 * endValues : 3 + 2 * endValues;
+    const uint64_t minNode = f64 ? 8 * h.components() : h.components();
+    r.need(satMul(h.slits, minSlit), "the slits");
+    m.slits.resize(static_cast<size_t>(h.slits));
+    for (size_t k = 0; k < m.slits.size(); ++k) {
+        Slit& s = m.slits[k];
+        const uint64_t row = f64 ? r.u32() : r.varint();
+        const uint64_t i0 = f64 ? r.u32() : r.varint();
+        const uint64_t i1 = f64 ? r.u32() : r.varint();
+        if (row == 0 || row >= h.rows || i0 == 0 || i0 >= i1 || i1 >= h.columns)
+            r.fail("slit " + std::to_string(k) + " (row " + std::to_string(row) + ", columns " +
+                   std::to_string(i0) + ".." + std::to_string(i1) + ") is not inside the " +
+                   std::to_string(h.columns) + "x" + std::to_string(h.rows) + " grid");
+        s.row = static_cast<int>(row);
+        s.i0 = static_cast<int>(i0);
+        s.i1 = static_cast<int>(i1);
+        for (SlitEnd* end : {&s.left, &s.right}) {
+            for (double* x : {&end->posU.x, &end->posU.y})
+                *x = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kPosU]);
+            if (!h.byRule)
+                for (int c = 0; c < 3; ++c)
+                    end->colU[c] = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kColU]);
+        }
+        const uint64_t below = i1 - i0 - 1;
+        r.need(satMul(below, minNode), "the split nodes of slit " + std::to_string(k));
+        s.below.resize(static_cast<size_t>(below));
+        for (size_t b = 0; b < s.below.size(); ++b)
+            readNodeRecord(r, h, s.below[b], static_cast<size_t>(row * (h.columns + 1) + i0 + 1 + b));
+    }
+}
+
+void Decoder::readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
+    const bool f64 = h.encoding == Encoding::Float64;
+    const uint64_t values = h.byRule ? 2 : 5;
+    r.need(satMul(h.tangents, f64 ? 10 + 8 * values : 3 + values), "the tangent breaks");
+    m.tangents.resize(static_cast<size_t>(h.tangents));
+    for (size_t k = 0; k < m.tangents.size(); ++k) {
+        CornerTangent& t = m.tangents[k];
+        const uint64_t i = f64 ? r.u32() : r.varint();
+        const uint64_t j = f64 ? r.u32() : r.varint();
+        uint64_t a, b;
+        if (f64) {
+            a = r.u8();
+            b = r.u8();
+        } else {
+            const uint8_t ab = r.u8();
+            if (ab > 3) r.fail("tangent break " + std::to_string(k) + " has a bad corner code");
+            a = ab & 1;
+            b = ab >> 1;
+        }
+        if (i >= h.columns || j >= h.rows || a > 1 || b > 1)
+            r.fail("tangent break " + std::to_string(k) + " names a corner outside the grid");
+        t.i = static_cast<int>(i);
+        t.j = static_cast<int>(j);
+        t.a = static_cast<int>(a);
+        t.b = static_cast<int>(b);
+        for (double* x : {&t.posU.x, &t.posU.y})
+            *x = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kPosU]);
+        for (int c = 0; c < 3 && !h.byRule; ++c)
+            t.colU[c] = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kColU]);
+    }
+}
+
+Document Decoder::run() {
+    readFileHeader();
+    Document doc;
+    uint64_t meshCount = 0;
+    {
+        const Section s = next("DOCU");
+        Payload p;
+        open(s, kMaxHeaderPayload, p);
+        ByteReader& r = p.reader;
+        r.need(kDocPayloadSize, "the document header");
+        const uint64_t width = r.u32(), height = r.u32();
+        meshCount = r.u32();
+        if (minor_ == 0) finish(p, s);
+        const uint64_t side = std::min<uint64_t>(limits_.maxCanvasSide, INT_MAX);
+        if (width == 0 || height == 0)
+            fail("canvas size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive", s.start);
+        if (width > side || height > side)
+            fail("canvas " + std::to_string(width) + "x" + std::to_string(height) +
+                     " exceeds the limit of " + std::to_string(side) + " pixels per side",
+                 s.start);
+        if (meshCount > limits_.maxMeshes)
+            fail(std::to_string(meshCount) + " meshes exceed the limit of " +
+                     std::to_string(limits_.maxMeshes),
+                 s.start);
+        const uint64_t left = bytes_.size() - pos_;
+        if (satMul(meshCount, 3 * kSectionOverhead) > left)
+            fail("truncated: the document declares " + std::to_string(meshCount) + " meshes but only " +
+                     std::to_string(left) + " bytes remain",
+                 s.start);
+        doc.width = static_cast<int>(width);
+        doc.height = static_cast<int>(height);
+    }
+
+    for (uint64_t k = 0; k < meshCount; ++k) {
+        meshName_ = "mesh " + std::to_string(k);
+        GradientMesh m;
+        MeshHeader h;
+        {
+            const Section s = next("MESH");
+            Payload p;
+            open(s, kMaxHeaderPayload, p);
+            h = readMeshHeader(p.reader, s);
+        }
+        const bool f64 = h.encoding == Encoding::Float64;
+        const uint64_t F = static_cast<uint64_t>(h.components());
+        const uint64_t perValue = f64 ? 8 : 10;  // a varint takes at most 10 bytes
+        {
+            const Section s = next("KNOT");
+            Payload p;
+            open(s, satMul(perValue, h.columns + h.rows + 2), p);
+            readKnots(p.reader, h, m);
+            finish(p, s);
+        }
+        {
+            const Section s = next("NODE");
+            Payload p;
+            open(s, satMul(satMul(perValue, F), h.nodes()), p);
+            readNodes(p.reader, h, m);
+            finish(p, s);
+        }
+        if (h.slits > 0) {
+            const Section s = next("SLIT");
+            // Row and columns, two end tangents and at most C-2 split nodes per slit.
+            const uint64_t perSlit = satAdd(3 * perValue + 10 * perValue,
+                                            satMul(h.columns - 1, satMul(perValue, F)));
+            Payload p;
+            open(s, satMul(h.slits, perSlit), p);
+            readSlits(p.reader, h, m);
+            finish(p, s);
+        }
+        if (h.tangents > 0) {
+            const Section s = next("TANG");
+            Payload p;
+            open(s, satMul(h.tangents, 4 * perValue + 2 + 5 * perValue), p);
+            readTangents(p.reader, h, m);
+            finish(p, s);
+        }
+        planes_.clear();
+        // Structure first (rows, slit overlaps, node counts): the colour rule may rely on it.
+        const std::string problem = validateMesh(m);
+        if (!problem.empty()) throw Error(meshName_ + ": " + problem, file_);
+        if (h.byRule) applyColorRule(m);
+        doc.meshes.push_back(std::move(m));
+    }
+    meshName_.clear();
+
+    const Section end = next("END ");
+    if (end.stored != 0 || end.raw != 0) fail("the END section must be empty", end.start);
+    if (pos_ != bytes_.size())
+        fail(std::to_string(bytes_.size() - pos_) + " bytes after the END section", pos_);
+    const std::string problem = validateDocument(doc);
+    if (!problem.empty()) throw Error(problem, file_);
+    return doc;
+}
+
+}  // namespace
+
+Document decodeGmb(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
+    return Decoder(bytes, limits, fileName).run();
+}
+
+}  // namespace gm

@@ -1,0 +1,256 @@
+// The deterministic documents behind tests/data/gmb: golden files of version 1.0 and the
+// malformed corpus, each with the message its reading must produce. Only IEEE-exact arithmetic
+// (no libm calls), so that the same bytes come out on every platform.
+//
+// To regenerate after a deliberate format change (then bump the version and keep the old files):
+//   build-gmb/tests/gmb/test_gmb "[.generate]"
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "formats/gmb.h"
+#include "gmb_test_support.h"
+#include "meshcore/color_rule.h"
+
+namespace gmbtest {
+
+// Two meshes on a 64x48 canvas; mesh 0 is 5x4 with a slit on row 2 (columns 1..4, two split
+// nodes) and two corner tangent breaks; mesh 1 is 2x1. Values are not dyadic: lossless only.
+inline gm::Document goldenLossless() {
+    gm::Document d;
+    d.width = 64;
+    d.height = 48;
+    gm::GradientMesh m(5, 4);
+    m.u = {0, 0.1, 0.3, 0.35, 1, 2.5};
+    m.v = {-1, 0, 1.0 / 3, 2.0 / 3, 1};
+    for (int j = 0; j <= 4; ++j) {
+        for (int i = 0; i <= 5; ++i) {
+            gm::Node& n = m.node(i, j);
+            n.pos = {10 + 10.1 * i + 0.01 * j * j, 5 + 9.7 * j - 0.3 * i};
+            n.posU = {30.1 + 0.2 * j, -0.3 + 0.05 * i};
+            n.posV = {0.02 * j, 29.1 - 0.1 * i};
+            n.col = {0.1 * i / 5 + 0.05, 0.2 * j / 4 + 0.3, 0.9 - 0.1 * (i + j) / 9};
+            n.colU = {0.02, -0.001 * j, 0.0};
+            n.colV = {0.0, 0.05 / 3, -0.01 * i};
+        }
+    }
+    gm::Slit s;
+    s.row = 2;
+    s.i0 = 1;
+    s.i1 = 4;
+    for (int i = 2; i <= 3; ++i) {
+        gm::Node n = m.node(i, 2);
+        n.pos.y += 2.2;
+        n.posU.y = -n.posU.y;
+        s.below.push_back(n);
+        m.node(i, 2).pos.y -= 2.2;
+    }
+    s.left = {{0, -7.7}, {0.1, 0.2, 0.3}};
+    s.right = {{0, 7.7}, {-0.1, -0.2, -0.3}};
+    m.slits.push_back(s);
+    m.tangents.push_back({0, 0, 0, 0, {1.1, 2.2}, {0.01, 0.02, 0.03}});
+    m.tangents.push_back({4, 3, 1, 1, {-3.3, 4.4}, {-0.04, 0.05, -0.06}});
+    d.meshes.push_back(m);
+
+    gm::GradientMesh small(2, 1);
+    small.u = {100, 100.5, 101};
+    small.v = {7, 7.001};
+    for (int j = 0; j <= 1; ++j)
+        for (int i = 0; i <= 2; ++i) {
+            gm::Node& n = small.node(i, j);
+            n.pos = {40 + 5.5 * i, 30 + 6.25 * j};
+            n.posU = {11, 0.1};
+            n.posV = {0.2, 6250};
+            n.col = {0.7, 0.1 * (i + j), 1.0 / 7};
+        }
+    d.meshes.push_back(small);
+    return d;
+}
+
+// The same structure with every value on the compact grid (knots with a smallest interval of
+// 0.25 and a largest of 1: derivatives in steps of 1/64 px and 1/512), so a compact round trip
+// is exact.
+inline gm::Document goldenCompact() {
+    gm::Document d = goldenLossless();
+    gm::GradientMesh& m = d.meshes[0];
+    m.u = {0, 0.25, 0.5, 1, 2, 3};
+    m.v = {0, 1, 2, 3, 4};
+    auto dyadic = [](gm::Node& n, int i, int j) {
+        n.pos = {10 + 10.125 * i + j / 32.0, 5 + 9.75 * j - 0.25 * i};
+        n.posU = {30 + j / 64.0, -0.5 + i / 64.0};
+        n.posV = {j / 16.0, 29 - i / 8.0};
+        n.col = {(20 + 10 * i) / 256.0, (70 + 12 * j) / 256.0, (230 - 3 * (i + j)) / 256.0};
+        n.colU = {10 / 512.0, -j / 512.0, 0};
+        n.colV = {0, 9 / 512.0, -3.0 * i / 512.0};
+    };
+    for (int j = 0; j <= 4; ++j)
+        for (int i = 0; i <= 5; ++i) dyadic(m.node(i, j), i, j);
+    for (size_t b = 0; b < m.slits[0].below.size(); ++b) {
+        gm::Node& n = m.slits[0].below[b];
+        dyadic(n, 2 + static_cast<int>(b), 2);
+        n.pos.y += 2.25;
+        n.posU.y = -n.posU.y;
+    }
+    m.slits[0].left = {{0, -7.75}, {50 / 512.0, 100 / 512.0, 150 / 512.0}};
+    m.slits[0].right = {{0, 7.75}, {-50 / 512.0, -100 / 512.0, -150 / 512.0}};
+    m.tangents[0] = {0, 0, 0, 0, {1.125, 2.25}, {5 / 512.0, 10 / 512.0, 15 / 512.0}};
+    m.tangents[1] = {4, 3, 1, 1, {-3.25, 4.5}, {-20 / 512.0, 25 / 512.0, -30 / 512.0}};
+    gm::GradientMesh& small = d.meshes[1];
+    small.v = {7, 7.25};
+    for (int j = 0; j <= 1; ++j)
+        for (int i = 0; i <= 2; ++i) {
+            gm::Node& n = small.node(i, j);
+            n.posU = {11, 0.125};
+            n.posV = {0.25, 25};
+            n.col = {179 / 256.0, (26 * (i + j)) / 256.0, 37 / 256.0};
+        }
+    return d;
+}
+
+// goldenCompact with the colour rule applied to mesh 1: its colour derivatives are not stored.
+inline gm::Document goldenCompactRule() {
+    gm::Document d = goldenCompact();
+    gm::applyColorRule(d.meshes[1]);
+    return d;
+}
+
+// A newer minor (1.1) file: DOCU and MESH carry appended fields and an unknown optional
+// section stands before END. A 1.0 reader must read it as goldenLossless.
+inline std::string goldenNewerMinor() {
+    const gm::Document d = goldenLossless();
+    std::string s = fileHeader(1, 1);
+    s += section("DOCU", docPayload(d) + std::string("\x01\x02\x03\x04", 4));
+    s += section("XTRA", "future data the 1.0 reader skips", 0x01);
+    for (const gm::GradientMesh& m : d.meshes) {
+        const MeshPayloads p = specMeshPayloads(m);
+        s += section("MESH", p.mesh + std::string(8, '\x7f'));
+        s += section("KNOT", p.knot) + section("NODE", p.node);
+        if (!m.slits.empty()) s += section("SLIT", p.slit);
+        if (!m.tangents.empty()) s += section("TANG", p.tang);
+        s += section("xtra", std::string(3, '\0'), 0x01, 7);  // even an unknown codec is skipped
+    }
+    return s + section("END ", "");
+}
+
+struct Malformed {
+    std::string name;      // file name under tests/data/gmb/malformed/
+    std::string bytes;
+    std::string expected;  // a part of the error message
+};
+
+inline std::vector<Malformed> malformedCorpus() {
+    std::vector<Malformed> out;
+    const std::string good = specEncode(goldenLossless());
+    const std::string compact = gm::encodeGmb(goldenCompact(), true);
+    auto edit = [&](const std::string& base, const std::string& tag, int nth, size_t at,
+                    uint64_t value, int width) {
+        std::string s = base;
+        const SectionInfo i = findSection(s, tag, nth);
+        setLE(s, i.offset + at, value, width);
+        fixCrc(s, i.offset);
+        return s;
+    };
+    // A copy of goldenLossless with one mesh altered, written from the spec (no validation).
+    auto withMesh = [](auto change) {
+        gm::Document d = goldenLossless();
+        change(d.meshes[0]);
+        return specEncode(d);
+    };
+
+    out.push_back({"empty.gmb", "", "empty file"});
+    out.push_back({"text.gmb", "mesh 5 4\nnode 0 0 10.0 5.0\n", "bad magic: not a .gmb file (looks like text)"});
+    out.push_back({"png-signature.gmb", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), "bad magic"});
+    {
+        std::string s = good;
+        s.erase(4, 1);  // CR LF -> LF, as a text-mode transfer does
+        out.push_back({"crlf-converted.gmb", s, "line endings were converted"});
+    }
+    {
+        std::string s = good;
+        setLE(s, 8, 2, 2);
+        out.push_back({"major-2.gmb", s, "unsupported .gmb major version 2 (this reader knows 1)"});
+    }
+    out.push_back({"header-only.gmb", fileHeader(), "truncated: the file ends before section DOCU"});
+    out.push_back({"truncated-in-node.gmb", good.substr(0, findSection(good, "NODE").offset + 100),
+                   "truncated in section NODE"});
+    out.push_back({"missing-end.gmb", good.substr(0, findSection(good, "END ").offset),
+                   "truncated: the file ends before section END"});
+    out.push_back({"trailing-bytes.gmb", good + "xyz", "3 bytes after the END section"});
+    {
+        std::string s = good;
+        s[findSection(s, "NODE").payload() + 17] ^= 0x10;
+        out.push_back({"crc-mismatch.gmb", s, "CRC mismatch in section NODE"});
+    }
+    {
+        std::string s = good;
+        const size_t end = findSection(s, "END ").offset;
+        s.insert(end, section("FUTR", "must be understood"));
+        out.push_back({"unknown-required-section.gmb", s, "unknown required section 'FUTR'"});
+    }
+    {
+        const SectionInfo knot = findSection(good, "KNOT");
+        const SectionInfo node = findSection(good, "NODE");
+        std::string s = good.substr(0, knot.offset) + good.substr(node.offset, node.end() - node.offset) +
+                        good.substr(knot.offset, knot.end() - knot.offset) + good.substr(node.end());
+        out.push_back({"section-out-of-order.gmb", s, "section NODE out of place: expected KNOT"});
+    }
+    out.push_back({"grid-100000x100000.gmb", edit(edit(good, "MESH", 0, 24, 100000, 4), "MESH", 0, 28, 100000, 4),
+                   "grid 100000x100000 exceeds the limit of 65536 columns or rows"});
+    out.push_back({"grid-65000x65000-nodes.gmb", edit(edit(good, "MESH", 0, 24, 65000, 4), "MESH", 0, 28, 65000, 4),
+                   "nodes, over the limit of 16777216"});
+    out.push_back({"meshes-4294967295.gmb", edit(good, "DOCU", 0, 32, 0xffffffffu, 4),
+                   "4294967295 meshes exceed the limit"});
+    out.push_back({"meshes-more-than-bytes.gmb", edit(good, "DOCU", 0, 32, 5000, 4),
+                   "declares 5000 meshes but only"});
+    out.push_back({"section-size-2-63.gmb", edit(good, "NODE", 0, 8, uint64_t(1) << 63, 8),
+                   "truncated in section NODE"});
+    out.push_back({"canvas-zero.gmb", edit(good, "DOCU", 0, 24, 0, 4), "canvas size 0x48 is not positive"});
+    out.push_back({"canvas-huge.gmb", edit(good, "DOCU", 0, 28, 0xfffffff0u, 4), "exceeds the limit"});
+    out.push_back({"slit-count-beyond-grid.gmb", edit(good, "MESH", 0, 32, 1000, 4), "slits cannot fit"});
+    out.push_back({"slit-outside-grid.gmb",
+                   withMesh([](gm::GradientMesh& m) { m.slits[0].row = 4; }),
+                   "slit 0 (row 4, columns 1..4) is not inside the 5x4 grid"});
+    out.push_back({"slit-columns-reversed.gmb",
+                   withMesh([](gm::GradientMesh& m) { m.slits[0].i1 = 1; m.slits[0].i0 = 4; }),
+                   "is not inside"});
+    out.push_back({"slits-overlapping.gmb", withMesh([](gm::GradientMesh& m) {
+                       gm::Slit t = m.slits[0];
+                       t.i0 = 3;  // touches the first slit's columns 1..4
+                       t.i1 = 4;
+                       t.below.clear();
+                       m.slits.push_back(t);
+                   }),
+                   "slit 1 touches slit 0 on row 2"});
+    out.push_back({"tangent-outside-grid.gmb", withMesh([](gm::GradientMesh& m) { m.tangents[1].i = 5; }),
+                   "names a corner outside the grid"});
+    out.push_back({"nan-node.gmb", withMesh([](gm::GradientMesh& m) { m.node(2, 3).colV.g = std::nan(""); }),
+                   "node (2,3) has a non-finite value"});
+    out.push_back({"inf-knot.gmb", withMesh([](gm::GradientMesh& m) { m.v[4] = HUGE_VAL; }),
+                   "v knot 4 is not finite"});
+    out.push_back({"nan-slit-end.gmb", withMesh([](gm::GradientMesh& m) { m.slits[0].right.posU.x = -std::nan(""); }),
+                   "non-finite end tangent"});
+    out.push_back({"knots-not-increasing.gmb", withMesh([](gm::GradientMesh& m) { m.u[3] = m.u[2]; }),
+                   "u knots not strictly increasing at index 3"});
+    {
+        // Compressed NODE of the compact file: its declared size lies in both directions.
+        const SectionInfo node = findSection(compact, "NODE");
+        out.push_back({"compressed-size-too-large.gmb", edit(compact, "NODE", 0, 16, node.raw + 1, 8),
+                       "compressed data ends after"});
+        out.push_back({"compressed-size-too-small.gmb", edit(compact, "NODE", 0, 16, node.raw - 1, 8),
+                       "larger than its declared size"});
+        out.push_back({"compressed-size-beyond-counts.gmb", edit(compact, "NODE", 0, 16, uint64_t(1) << 40, 8),
+                       "its counts allow at most"});
+        std::string s = compact;
+        for (size_t k = node.payload() + 4; k < node.end() - 4; k += 3) s[k] = static_cast<char>(s[k] ^ 0x5a);
+        fixCrc(s, node.offset);
+        out.push_back({"compressed-data-corrupt.gmb", s, "in section NODE"});
+    }
+    out.push_back({"stored-size-mismatch.gmb", edit(good, "KNOT", 0, 16, 80, 8),
+                   "stored uncompressed but declares 80 bytes for a 88-byte payload"});
+    out.push_back({"unknown-codec.gmb", edit(good, "NODE", 0, 5, 9, 1), "unknown compression method 9"});
+    out.push_back({"unknown-encoding.gmb", edit(good, "MESH", 0, 24 + 16, 7, 1), "unknown mesh encoding 7"});
+    return out;
+}
+
+}  // namespace gmbtest

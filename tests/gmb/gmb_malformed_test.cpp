@@ -1,0 +1,176 @@
+// Malformed .gmb input: every problem is a gm::Error naming the file and saying what is wrong;
+// nothing crashes or allocates by a count it has not checked.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "formats/gmb.h"
+#include "gmb_corpus.h"
+#include "meshcore/error.h"
+
+using Catch::Matchers::Contains;
+
+namespace {
+
+const std::string kDir = std::string(GRADMESH_TEST_DATA) + "/gmb/";
+
+std::string decodeError(const std::string& bytes, const gm::ReadLimits& limits = {},
+                        const std::string& name = "bad.gmb") {
+    try {
+        gm::decodeGmb(bytes, limits, name);
+    } catch (const gm::Error& e) {
+        CHECK(e.file() == name);
+        return e.what();
+    }
+    FAIL("decoding succeeded");
+    return {};
+}
+
+std::vector<std::string> filesIn(const std::string& dir) {
+    std::vector<std::string> out;
+    if (!std::filesystem::is_directory(dir)) return out;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.is_regular_file()) out.push_back(e.path().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("each malformed case gives its own clear error", "[malformed]") {
+    for (const gmbtest::Malformed& m : gmbtest::malformedCorpus()) {
+        INFO(m.name);
+        CHECK_THAT(decodeError(m.bytes, {}, m.name), Contains(m.expected));
+    }
+}
+
+TEST_CASE("the malformed corpus on disk is refused with the expected messages", "[malformed]") {
+    std::map<std::string, std::string> expected;
+    for (const gmbtest::Malformed& m : gmbtest::malformedCorpus()) expected[m.name] = m.expected;
+    const auto files = filesIn(kDir + "malformed");
+    REQUIRE(files.size() >= expected.size());
+    for (const std::string& path : files) {
+        const std::string name = std::filesystem::path(path).filename().string();
+        INFO(name);
+        const std::string message = decodeError(gmbtest::readFile(path), {}, path);
+        if (expected.count(name)) CHECK_THAT(message, Contains(expected[name]));
+    }
+}
+
+TEST_CASE("inputs that once crashed the reader are refused or read cleanly", "[malformed]") {
+    // Files found by gmb_fuzzer (tests/fuzz); each must give a gm::Error or a valid document.
+    for (const std::string& path : filesIn(kDir + "crash")) {
+        INFO(path);
+        try {
+            const gm::Document d = gm::decodeGmb(gmbtest::readFile(path), gm::ReadLimits{}, path);
+            CHECK(gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{}) == d);
+        } catch (const gm::Error& e) {
+            CHECK_THAT(e.what(), Contains(path));
+        }
+    }
+}
+
+TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]") {
+    for (bool compact : {false, true}) {
+        const std::string full = gm::encodeGmb(gmbtest::goldenCompact(), compact);
+        INFO((compact ? "compact, " : "lossless, ") << full.size() << " bytes");
+        for (size_t n = 0; n < full.size(); ++n) {
+            INFO("cut at " << n);
+            const std::string message = decodeError(full.substr(0, n));
+            CHECK_THAT(message, Contains(n == 0 ? "empty file" : "truncated"));
+        }
+    }
+}
+
+TEST_CASE("counts that would need terabytes are refused before allocating", "[malformed]") {
+    // Limits raised far beyond the defaults: only the bytes that remain can stop the reader.
+    gm::ReadLimits huge;
+    huge.maxGridSide = uint64_t(1) << 30;
+    huge.maxNodesPerMesh = uint64_t(1) << 62;
+    huge.maxSlitsPerMesh = uint64_t(1) << 40;
+    huge.maxMeshes = uint64_t(1) << 40;
+    huge.maxFileBytes = uint64_t(1) << 62;
+    const std::string good = gmbtest::specEncode(gmbtest::goldenLossless());
+    auto edit = [&](const std::string& tag, size_t at, uint64_t value, int width) {
+        std::string s = good;
+        const gmbtest::SectionInfo i = gmbtest::findSection(s, tag);
+        gmbtest::setLE(s, i.offset + at, value, width);
+        gmbtest::fixCrc(s, i.offset);
+        return s;
+    };
+    // 2^30 x 2^30 nodes: 2^60 nodes of 120 bytes, but the NODE section holds 3600.
+    std::string both = edit("MESH", 24, uint64_t(1) << 30, 4);
+    {
+        const gmbtest::SectionInfo i = gmbtest::findSection(both, "MESH");
+        gmbtest::setLE(both, i.offset + 28, uint64_t(1) << 30, 4);
+        gmbtest::fixCrc(both, i.offset);
+    }
+    CHECK_THAT(decodeError(both, huge), Contains("counts allow") || Contains("truncated"));
+    // A compressed NODE declaring a terabyte is refused before inflating.
+    std::string compact = gm::encodeGmb(gmbtest::goldenCompact(), true);
+    {
+        const gmbtest::SectionInfo i = gmbtest::findSection(compact, "NODE");
+        REQUIRE(i.codec != 0);
+        gmbtest::setLE(compact, i.offset + 16, uint64_t(1) << 40, 8);
+        gmbtest::fixCrc(compact, i.offset);
+    }
+    CHECK_THAT(decodeError(compact), Contains("its counts allow at most"));
+    // A small file that inflates to a large document: the budget (maxFileBytes) refuses it.
+    gm::ReadLimits budget;
+    budget.maxFileBytes = 100000;
+    gm::Document big;
+    big.width = big.height = 100;
+    big.meshes.push_back(gm::GradientMesh(300, 300));
+    for (size_t k = 0; k < big.meshes[0].nodes.size(); ++k)
+        big.meshes[0].nodes[k].pos = {double(k % 301) / 3, double(k / 301) / 3};
+    const std::string bomb = gm::encodeGmb(big, true);
+    CHECK(bomb.size() < 20000);
+    CHECK_THAT(decodeError(bomb, budget), Contains("decoded data would exceed the limit of 100000 bytes"));
+    CHECK_THAT(decodeError(edit("DOCU", 32, 0xffffffffu, 4), huge), Contains("meshes but only"));
+}
+
+TEST_CASE("limits a caller lowers are enforced", "[malformed]") {
+    const std::string good = gm::encodeGmb(gmbtest::goldenLossless(), false);
+    gm::ReadLimits l;
+    l.maxGridSide = 4;
+    CHECK_THAT(decodeError(good, l), Contains("grid 5x4 exceeds the limit of 4 columns or rows"));
+    l = {};
+    l.maxNodesPerMesh = 29;
+    CHECK_THAT(decodeError(good, l), Contains("30 nodes, over the limit of 29"));
+    l = {};
+    l.maxSlitsPerMesh = 0;
+    CHECK_THAT(decodeError(good, l), Contains("1 slits exceed the limit of 0"));
+    l = {};
+    l.maxMeshes = 1;
+    CHECK_THAT(decodeError(good, l), Contains("2 meshes exceed the limit of 1"));
+    l = {};
+    l.maxCanvasSide = 50;
+    CHECK_THAT(decodeError(good, l), Contains("canvas 64x48 exceeds the limit of 50"));
+    l = {};
+    l.maxFileBytes = 1000;
+    CHECK_THAT(decodeError(good, l), Contains("file is 5248 bytes, over the limit of 1000"));
+}
+
+TEST_CASE("errors name the byte where the problem is", "[malformed]") {
+    const std::string good = gm::encodeGmb(gmbtest::goldenLossless(), false);
+    const gmbtest::SectionInfo node = gmbtest::findSection(good, "NODE");
+    try {
+        gm::decodeGmb(good.substr(0, node.offset + 50), {}, "cut.gmb");
+        FAIL("no error");
+    } catch (const gm::Error& e) {
+        CHECK(e.file() == "cut.gmb");
+        CHECK(e.where() == "byte " + std::to_string(node.offset));
+        CHECK_THAT(e.what(), Contains("cut.gmb: byte") && Contains("truncated in section NODE"));
+    }
+}
+
+TEST_CASE("reading through the format object names the file", "[malformed]") {
+    const auto format = gm::makeGmbFormat();
+    const std::string path = kDir + "malformed/crc-mismatch.gmb";
+    REQUIRE_THROWS_WITH(format->read(path, gm::ReadOptions{}),
+                        Contains(path) && Contains("CRC mismatch"));
+    gm::ReadOptions small;
+    small.limits.maxFileBytes = 10;
+    REQUIRE_THROWS_WITH(format->read(kDir + "golden-1.0-lossless.gmb", small), Contains("over the limit"));
+}

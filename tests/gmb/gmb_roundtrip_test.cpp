@@ -1,0 +1,237 @@
+// .gmb round trips: lossless is bit-exact, compact stays within GmbCompactBounds.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+
+#include "formats/gmb.h"
+#include "gmb_test_support.h"
+#include "meshcore/color_rule.h"
+#include "meshcore/error.h"
+#include "meshcore/synthetic_meshes.h"
+
+using gm::Document;
+using gm::GradientMesh;
+
+namespace {
+
+GradientMesh slitMeshWithBreaks() {
+    GradientMesh m = gm::makeHoledMesh(3, 20, 30, 400, 300, 7);
+    REQUIRE(m.slits.size() == 3);
+    m.tangents.push_back({0, 0, 0, 0, {1.25, -3.5}, {0.1, -0.2, 0.3}});
+    m.tangents.push_back({3, 2, 1, 0, {-7.0, 0.125}, {0.0, 0.5, -0.25}});
+    m.tangents.push_back({m.columns() - 1, m.rows() - 1, 1, 1, {2.0, 2.0}, {0.01, 0.02, 0.03}});
+    return m;
+}
+
+Document singleMeshDocument(GradientMesh m, int width = 512, int height = 512) {
+    Document d;
+    d.width = width;
+    d.height = height;
+    d.meshes.push_back(std::move(m));
+    return d;
+}
+
+// Lossless: equal as a document, and re-encoding the decoded document gives the same bytes
+// (which compares every double bit for bit, -0.0 and NaN payloads included).
+void requireLosslessRoundTrip(const Document& doc) {
+    const std::string bytes = gm::encodeGmb(doc, false);
+    const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "roundtrip.gmb");
+    REQUIRE(back == doc);
+    REQUIRE(gm::encodeGmb(back, false) == bytes);
+    // The writer follows the written spec byte for byte.
+    REQUIRE(gmbtest::specEncode(doc) == bytes);
+}
+
+double maxInterval(const std::vector<double>& k) {
+    double m = 0;
+    for (size_t i = 1; i < k.size(); ++i) m = std::max(m, k[i] - k[i - 1]);
+    return m;
+}
+double minInterval(const std::vector<double>& k) {
+    double m = INFINITY;
+    for (size_t i = 1; i < k.size(); ++i) m = std::min(m, k[i] - k[i - 1]);
+    return m;
+}
+
+struct Deviation {
+    double pos = 0, col = 0, posTangent = 0, colTangent = 0, knot = 0;
+};
+
+void track(double& worst, double a, double b, double scale = 1.0) {
+    worst = std::max(worst, std::fabs(a - b) * scale);
+}
+
+// The largest errors of `b` against `a` in the units of GmbCompactBounds; structure must match.
+Deviation compactDeviation(const GradientMesh& a, const GradientMesh& b, bool colorDerivatives) {
+    Deviation d;
+    REQUIRE(a.u.size() == b.u.size());
+    REQUIRE(a.v.size() == b.v.size());
+    REQUIRE(a.nodes.size() == b.nodes.size());
+    REQUIRE(a.slits.size() == b.slits.size());
+    REQUIRE(a.tangents.size() == b.tangents.size());
+    const double du = maxInterval(a.u), dv = maxInterval(a.v);
+    const double minStep = std::min(minInterval(a.u), minInterval(a.v));
+    for (size_t i = 0; i < a.u.size(); ++i) track(d.knot, a.u[i], b.u[i], 1 / minStep);
+    for (size_t j = 0; j < a.v.size(); ++j) track(d.knot, a.v[j], b.v[j], 1 / minStep);
+    auto node = [&](const gm::Node& x, const gm::Node& y) {
+        track(d.pos, x.pos.x, y.pos.x);
+        track(d.pos, x.pos.y, y.pos.y);
+        track(d.posTangent, x.posU.x, y.posU.x, du);
+        track(d.posTangent, x.posU.y, y.posU.y, du);
+        track(d.posTangent, x.posV.x, y.posV.x, dv);
+        track(d.posTangent, x.posV.y, y.posV.y, dv);
+        for (int c = 0; c < 3; ++c) {
+            track(d.col, x.col[c], y.col[c]);
+            if (colorDerivatives) {
+                track(d.colTangent, x.colU[c], y.colU[c], du);
+                track(d.colTangent, x.colV[c], y.colV[c], dv);
+            }
+        }
+    };
+    for (size_t k = 0; k < a.nodes.size(); ++k) node(a.nodes[k], b.nodes[k]);
+    for (size_t s = 0; s < a.slits.size(); ++s) {
+        const gm::Slit &x = a.slits[s], &y = b.slits[s];
+        REQUIRE(x.row == y.row);
+        REQUIRE(x.i0 == y.i0);
+        REQUIRE(x.i1 == y.i1);
+        REQUIRE(x.below.size() == y.below.size());
+        for (size_t k = 0; k < x.below.size(); ++k) node(x.below[k], y.below[k]);
+        for (auto ends : {std::make_pair(&x.left, &y.left), std::make_pair(&x.right, &y.right)}) {
+            track(d.posTangent, ends.first->posU.x, ends.second->posU.x, du);
+            track(d.posTangent, ends.first->posU.y, ends.second->posU.y, du);
+            for (int c = 0; c < 3 && colorDerivatives; ++c)
+                track(d.colTangent, ends.first->colU[c], ends.second->colU[c], du);
+        }
+    }
+    for (size_t k = 0; k < a.tangents.size(); ++k) {
+        const gm::CornerTangent &x = a.tangents[k], &y = b.tangents[k];
+        REQUIRE((x.i == y.i && x.j == y.j && x.a == y.a && x.b == y.b));
+        track(d.posTangent, x.posU.x, y.posU.x, du);
+        track(d.posTangent, x.posU.y, y.posU.y, du);
+        for (int c = 0; c < 3 && colorDerivatives; ++c) track(d.colTangent, x.colU[c], y.colU[c], du);
+    }
+    return d;
+}
+
+void requireWithinBounds(const Deviation& d) {
+    INFO("position " << d.pos << ", colour " << d.col << ", position tangent " << d.posTangent
+                     << ", colour tangent " << d.colTangent << ", knot " << d.knot);
+    CHECK(d.pos <= gm::GmbCompactBounds::position);
+    CHECK(d.col <= gm::GmbCompactBounds::color);
+    CHECK(d.posTangent <= gm::GmbCompactBounds::positionTangent);
+    CHECK(d.colTangent <= gm::GmbCompactBounds::colorTangent);
+    CHECK(d.knot <= gm::GmbCompactBounds::knotRelative);
+}
+
+}  // namespace
+
+TEST_CASE("lossless round trip is bit-exact on random meshes", "[roundtrip]") {
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+        INFO("seed " << seed);
+        requireLosslessRoundTrip(singleMeshDocument(gmbtest::randomMesh(seed)));
+    }
+}
+
+TEST_CASE("lossless round trip keeps slits, below copies, end tangents and tangent breaks",
+          "[roundtrip]") {
+    GradientMesh m = slitMeshWithBreaks();
+    // Rows 2, 4 and 6: three slits on three rows.
+    CHECK(m.slits[0].row != m.slits[1].row);
+    CHECK(m.slits[1].row != m.slits[2].row);
+    requireLosslessRoundTrip(singleMeshDocument(m, 640, 480));
+}
+
+TEST_CASE("lossless round trip keeps a multi-mesh document and its order", "[roundtrip]") {
+    Document d = gm::makeDemoDocument();
+    d.meshes.push_back(gmbtest::randomMesh(99));
+    d.meshes.push_back(slitMeshWithBreaks());
+    d.meshes.push_back(gmbtest::randomMesh(100, 1, 1));
+    requireLosslessRoundTrip(d);
+    std::swap(d.meshes.front(), d.meshes.back());
+    const Document back = gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{});
+    REQUIRE(back.meshes.front() == d.meshes.front());
+    REQUIRE(back == d);
+}
+
+TEST_CASE("compact round trip stays within the stated bounds on a smooth mesh", "[roundtrip]") {
+    GradientMesh m = gm::makeCurvedMesh(32, 32, 16, 16, 480, 480, 1.0, 3);
+    gmbtest::addFittingNoise(m, 11);
+    const Document doc = singleMeshDocument(m);
+    REQUIRE_FALSE(gm::followsColorRule(doc.meshes[0]));
+    const std::string lossless = gm::encodeGmb(doc, false);
+    const std::string compact = gm::encodeGmb(doc, true);
+    const Document back = gm::decodeGmb(compact, gm::ReadLimits{}, "compact.gmb");
+    REQUIRE(back.width == doc.width);
+    REQUIRE(back.height == doc.height);
+    requireWithinBounds(compactDeviation(doc.meshes[0], back.meshes[0], true));
+    const double patches = doc.meshes[0].patchCount();
+    WARN("32x32 smooth mesh: lossless " << lossless.size() << " bytes ("
+                                        << lossless.size() / patches << " per patch), compact "
+                                        << compact.size() << " bytes (" << compact.size() / patches
+                                        << " per patch)");
+    CHECK(compact.size() * 4 < lossless.size());
+    // Compact is stable: a second pass changes nothing.
+    REQUIRE(gm::decodeGmb(gm::encodeGmb(back, true), gm::ReadLimits{}) == back);
+}
+
+TEST_CASE("compact round trip stays within the bounds with slits, breaks and odd knots",
+          "[roundtrip]") {
+    GradientMesh m = slitMeshWithBreaks();
+    // Non-uniform knots at another scale: derivative bounds scale with the intervals.
+    for (size_t i = 0; i < m.u.size(); ++i) m.u[i] = 0.001 * i * i + 0.37 * i + 5;
+    for (size_t j = 0; j < m.v.size(); ++j) m.v[j] = 40.0 * j + 0.1 * std::sin(double(j));
+    const Document doc = singleMeshDocument(m, 640, 480);
+    const Document back = gm::decodeGmb(gm::encodeGmb(doc, true), gm::ReadLimits{});
+    requireWithinBounds(compactDeviation(doc.meshes[0], back.meshes[0], true));
+}
+
+TEST_CASE("compact mode omits colour derivatives that follow the rule", "[roundtrip]") {
+    GradientMesh m = gm::makeCurvedMesh(32, 32, 16, 16, 480, 480, 1.0, 5);
+    gmbtest::addFittingNoise(m, 12);
+    const std::string explicitDerivatives = gm::encodeGmb(singleMeshDocument(m), true);
+    gm::applyColorRule(m);
+    REQUIRE(gm::followsColorRule(m));
+    const Document doc = singleMeshDocument(m);
+    const std::string byRule = gm::encodeGmb(doc, true);
+    WARN("compact with colour derivatives " << explicitDerivatives.size()
+                                            << " bytes, by rule " << byRule.size());
+    CHECK(byRule.size() < explicitDerivatives.size());
+    const Document back = gm::decodeGmb(byRule, gm::ReadLimits{});
+    requireWithinBounds(compactDeviation(m, back.meshes[0], false));
+    CHECK(gm::followsColorRule(back.meshes[0]));
+    CHECK(gm::colorRuleDeviation(back.meshes[0]) == 0.0);
+}
+
+TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") {
+    // Coordinates far beyond the quantised range: the mesh must come back exactly.
+    const Document doc = singleMeshDocument(gmbtest::randomMesh(4));
+    const Document back = gm::decodeGmb(gm::encodeGmb(doc, true), gm::ReadLimits{});
+    REQUIRE(back == doc);
+}
+
+TEST_CASE("the format object writes atomically and reads back", "[roundtrip]") {
+    const auto format = gm::makeGmbFormat();
+    CHECK(format->name() == "gmb");
+    CHECK(format->extensions() == std::vector<std::string>{".gmb"});
+    CHECK(format->sniff(gm::encodeGmb(singleMeshDocument(gmbtest::randomMesh(1)), false)));
+    CHECK_FALSE(format->sniff("<svg"));
+    CHECK_FALSE(format->sniff("\x89GMB"));
+    const std::string path = std::string(GRADMESH_TMP) + "/gmb_format_roundtrip.gmb";
+    Document doc = gm::makeDemoDocument();
+    gm::WriteOptions options;
+    format->write(doc, path, options);
+    CHECK(format->read(path, gm::ReadOptions{}) == doc);
+    options.compact = true;
+    format->write(doc, path, options);
+    CHECK(format->read(path, gm::ReadOptions{}).meshes.size() == doc.meshes.size());
+    options.compact = false;
+    options.legacy = true;  // slits become hole-free pieces
+    format->write(doc, path, options);
+    for (const GradientMesh& m : format->read(path, gm::ReadOptions{}).meshes) CHECK(m.slits.empty());
+    std::remove(path.c_str());
+    // An invalid document is refused and leaves no file behind.
+    doc.meshes[0].u[1] = doc.meshes[0].u[0];
+    REQUIRE_THROWS_AS(format->write(doc, path, gm::WriteOptions{}), gm::Error);
+    CHECK(gmbtest::readFile(path).empty());
+}
