@@ -14,6 +14,7 @@
 
 #include "formats/raster.h"
 #include "formats/registry.h"
+#include "formats/svg.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
 #include "meshcore/split_legacy.h"
@@ -239,6 +240,11 @@ int cmdInfo(const Args& a) {
         if (!m.tangents.empty()) std::printf(", %zu tangent breaks", m.tangents.size());
         std::printf("\n");
     }
+    // What an editable SVG (type="bicubic") would lose: Inkscape computes its own colour
+    // derivatives, and this bounds how far its colours can be from ours.
+    const gm::SvgEditableDeviation dev = gm::svgEditableDeviation(doc);
+    std::printf("editable svg: colour within %.2f/255 of ours (Inkscape's bicubic rule)\n",
+                dev.maxColorDifference * 255.0);
     return 0;
 }
 

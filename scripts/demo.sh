@@ -12,6 +12,11 @@ set -x
 $gm sample out/sample.gmb
 $gm info out/sample.gmb
 $gm convert out/sample.gmb -o out/sample-compact.gmb --compact
+$gm convert out/sample.gmb -o out/sample.svg                      # exact colours, for Inkscape
+$gm convert out/sample.gmb -o out/sample-editable.svg --svg-colors editable
+$gm convert out/sample.gmb -o out/sample.eps
+$gm convert out/sample.gmb -o out/sample.pdf
+$gm convert out/sample.gmb -o out/sample-legacy.pdf --legacy       # holes as hole-free pieces
 $gm render out/sample.gmb -o out/sample.png --background white
 $gm render out/sample.gmb -o out/sample@4x.png --scale 4
 $gm render out/sample-compact.gmb -o out/sample-compact.png --background white

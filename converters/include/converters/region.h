@@ -27,6 +27,7 @@ struct Region {
     int pixelCount = 0;           // pixels with mask 1
     Polygon outer;                // sub-pixel outer loop
     std::vector<Polygon> holes;   // one sub-pixel loop per kept hole
+    int label = 1;                // the label value it came from (label maps), else 1
 };
 
 }  // namespace gm

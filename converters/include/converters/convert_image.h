@@ -1,0 +1,59 @@
+// Raster → gradient meshes: the whole pipeline of DESIGN.md §3 for every region of an object
+// mask, timed per stage (T = regions+corners+triangulate, P = topology+feature map,
+// M = grid+colours+refine, as in the paper's Table 1).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "converters/colours.h"
+#include "converters/foreground.h"
+#include "converters/refine.h"
+#include "meshcore/gradient_mesh.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+struct ConvertOptions {
+    double maxError = 3.0;        // target E per region, 0–255 units
+    int maxPatches = 400;         // patch budget per region
+    ColorMode colors = ColorMode::Fit;
+    int minArea = 64;             // pixels: smaller components are dropped
+    int minHole = 16;             // pixels: smaller holes are filled
+    double sampleFraction = 0.05; // triangulation samples per region pixel
+    double targetPatchSize = 96;  // pixels: the initial grid's patch size
+};
+
+struct StageSeconds {
+    double regions = 0, corners = 0, triangulate = 0, topology = 0, feature = 0, mesh = 0;
+    double T() const { return regions + corners + triangulate; }
+    double P() const { return topology + feature; }
+    double M() const { return mesh; }
+    double total() const { return T() + P() + M(); }
+};
+
+struct RegionReport {
+    int pixels = 0, holes = 0;
+    int triangles = 0, vertices = 0, flippedTriangles = 0;
+    int columns = 0, rows = 0, patches = 0;
+    StageSeconds seconds;
+    FitError error;
+    std::vector<RefineStep> refinement;
+    int featureSolves = 0;
+};
+
+struct ConvertReport {
+    std::string maskSource;
+    int width = 0, height = 0;
+    StageSeconds seconds;  // summed over regions (regions stage once)
+    std::vector<RegionReport> regions;
+    FitError error;        // over all region pixels, from the final re-render
+    int patches = 0;
+};
+
+// Converts every region of `mask` (1 = object). Throws gm::Error naming `imageName` for a region
+// it cannot convert (regions with holes until the slit map lands in the pipeline).
+Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
+                      const std::string& imageName, ConvertReport* report = nullptr);
+
+}  // namespace gm

@@ -1,0 +1,32 @@
+// Where the object comes from (DESIGN.md §3 step 1): a mask image, the alpha channel when it is
+// not fully opaque, else foreground extraction by GrabCut initialised from the image border.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "meshcore/image.h"
+
+namespace gm {
+
+enum class MaskSource { MaskImage, Alpha, GrabCut };
+
+struct ObjectMask {
+    int width = 0, height = 0;
+    std::vector<uint8_t> mask;  // 1 = object
+    MaskSource source = MaskSource::Alpha;
+};
+
+const char* maskSourceName(MaskSource s);
+
+// `maskImage` may be null. A mask image must match the image size (gm::Error naming maskPath
+// otherwise); white (grey ≥ 0.5 with alpha ≥ 0.5) is object. Throws gm::Error naming imagePath
+// when the resulting mask is empty.
+ObjectMask objectMask(const RgbaImage& image, const RgbaImage* maskImage,
+                      const std::string& imagePath, const std::string& maskPath);
+
+// GrabCut (OpenCV) with the rectangle init: a border of ~5% of the image is background.
+std::vector<uint8_t> grabCutForeground(const RgbaImage& image, int iterations = 5);
+
+}  // namespace gm

@@ -1,0 +1,60 @@
+// Pipeline stage 8, refine (DESIGN.md §3, paper §4.5): starting from the initial grid, split
+// the u or v interval whose split removes the most error, re-derive the grid through the
+// inverse map with the new knot (so geometry keeps following the map) and refit the colours;
+// repeat until the mean error E is at most the target or the patch budget is spent.
+//
+// Candidates are ranked by an estimate of the error their split removes: the part of the
+// residual in their column (u interval) or row (v interval) of patches that varies along the
+// split direction (a u split adds freedom along u only). The top few are tried and the best
+// kept; a split is accepted only when it lowers E, so E never increases along the recorded
+// sequence. The new knot goes to the error-weighted mean parameter of the interval's pixels,
+// kept within its middle half, so that splits home in on where the error is (a colour edge)
+// rather than only bisecting.
+#pragma once
+
+#include <vector>
+
+#include "converters/colours.h"
+#include "converters/grid.h"
+#include "converters/region.h"
+#include "converters/tri_mesh.h"
+#include "meshcore/gradient_mesh.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+struct RefineOptions {
+    double maxError = 2.0;     // target E, 0–255 units (DESIGN §6)
+    int maxPatches = 400;      // budget: no split may exceed it
+    int candidates = 1;        // splits tried per step, best estimated first (each try is a
+                               // grid, a render and a fit: about 50 ms at 512²)
+    int maxTries = 8;          // candidates tried per step before giving up (when none improves)
+    double minInterval = 1.0;  // intervals shorter than this (parameter units ≈ pixels) are
+                               // not split
+    ColorOptions color;        // mode and solver settings of every refit
+};
+
+// One state of the sequence: the initial grid, then each accepted split.
+struct RefineStep {
+    int columns = 0, rows = 0, patches = 0;
+    double meanAbs = 0, rmse = 0, psnr = 0;  // error figures of this mesh
+    char axis = 0;       // 'u' or 'v': the interval split to get here; 0 for the initial grid
+    double knot = 0;     // the inserted knot, parameter units
+    double seconds = 0;  // wall time spent to get here from the previous step
+};
+
+struct RefineResult {
+    GradientMesh mesh;  // the last (and best) mesh, coloured
+    FitError error;
+    std::vector<RefineStep> steps;
+    bool reachedTarget = false;  // E ≤ maxError
+};
+
+// Throws what buildGrid and computeColors throw.
+RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
+                        const Region& region, const RefineOptions& options = {});
+RefineResult refineMesh(const TriMesh& mesh, const ParamMap& map, const GridOptions& initial,
+                        const RgbaImage& image, const Region& region,
+                        const RefineOptions& options = {});
+
+}  // namespace gm

@@ -1,0 +1,57 @@
+// Pipeline stage 1, regions (DESIGN.md §3): object pixels → 8-connected regions with sub-pixel
+// outer and hole loops. Coordinates as in region.h: pixels, x right, y down, pixel (x, y)
+// covering [x, x+1) × [y, y+1).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "converters/region.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+// How much of each pixel the object covers, 0–1, width*height row-major, row 0 at the top.
+// The object is where coverage ≥ 0.5; values in between (anti-aliased alpha or mask edges)
+// place the traced loops between pixel centres.
+struct Coverage {
+    int width = 0, height = 0;
+    std::vector<float> values;
+};
+
+struct RegionOptions {
+    int minArea = 16;                // pixels; smaller components are dropped
+    int minHole = 16;                // pixels; smaller holes are filled (noise)
+    double smoothing = 0.8;          // Gaussian sigma, pixels, applied to the coverage before
+                                     // tracing (0: none); it never changes which pixels are inside
+    double simplifyTolerance = 0.3;  // Douglas–Peucker tolerance, pixels (0: keep every point)
+    double maxSegment = 6.0;         // longest loop edge after simplification, pixels
+};
+
+// Coverage = alpha of an image (straight alpha).
+Coverage coverageFromAlpha(const RgbaImage& image);
+// Coverage = luminance × alpha of a mask image: white opaque is object, black or transparent is
+// background.
+Coverage coverageFromMaskImage(const RgbaImage& mask);
+// Coverage 1 where bits is non-zero, else 0. Throws gm::Error if bits.size() != width*height.
+Coverage coverageFromBits(int width, int height, const std::vector<uint8_t>& bits);
+
+// Throws gm::Error naming `maskName` unless the mask has the image's size.
+void requireMaskMatchesImage(const RgbaImage& image, const RgbaImage& mask,
+                             const std::string& maskName);
+
+// The regions of the object: one per 8-connected component of coverage ≥ 0.5 of at least
+// options.minArea pixels, largest first. Holes are the 4-connected background components not
+// connected to the image border; those below options.minHole pixels are filled. Loops are simple
+// polygons (outer: polygonSignedArea > 0, holes < 0) that never touch each other.
+// Throws gm::Error if the size is invalid, no pixel is object, or every component is too small.
+std::vector<Region> extractRegions(const Coverage& coverage, const RegionOptions& options = {});
+
+// The regions of a label map (labels[y*width + x]; negative labels are background): each
+// 8-connected component of each label is one region, Region::label saying which. Throws like
+// extractRegions.
+std::vector<Region> extractRegionsFromLabels(int width, int height, const std::vector<int>& labels,
+                                             const RegionOptions& options = {});
+
+}  // namespace gm

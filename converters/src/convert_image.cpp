@@ -1,0 +1,147 @@
+#include "converters/convert_image.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "converters/corners.h"
+#include "converters/feature_map.h"
+#include "converters/grid.h"
+#include "converters/regions.h"
+#include "converters/topology_map.h"
+#include "converters/triangulate.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+
+namespace gm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// E, RMSE, PSNR, max and uncovered fraction of a rendered document over the mask's pixels.
+FitError measure(const Document& doc, const RgbaImage& image, const ObjectMask& mask) {
+    RenderOptions ro;
+    const RgbaImage r = renderDocument(doc, ro).image;
+    FitError e;
+    double sum = 0, sq = 0;
+    long uncovered = 0, n = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            if (!mask.mask[static_cast<size_t>(y) * image.width + x]) continue;
+            ++n;
+            const float* a = image.at(x, y);
+            const float* b = r.at(x, y);
+            if (b[3] < 0.5f) {
+                ++uncovered;
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) {
+                const double d = std::fabs(double(a[c]) - b[c]) * 255.0;
+                sum += d;
+                sq += d * d;
+                e.maxAbs = std::max(e.maxAbs, d);
+            }
+        }
+    const long covered = n - uncovered;
+    e.pixels = n;
+    e.uncovered = n ? double(uncovered) / n : 0;
+    e.meanAbs = covered ? sum / (3.0 * covered) : 0;
+    e.rmse = covered ? std::sqrt(sq / (3.0 * covered)) : 0;
+    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
+    return e;
+}
+}  // namespace
+
+Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
+                      const std::string& imageName, ConvertReport* report) {
+    ConvertReport local;
+    ConvertReport& rep = report ? *report : local;
+    rep = ConvertReport{};
+    rep.maskSource = maskSourceName(mask.source);
+    rep.width = image.width;
+    rep.height = image.height;
+
+    auto t0 = Clock::now();
+    RegionOptions ro;
+    ro.minArea = options.minArea;
+    ro.minHole = options.minHole;
+    const std::vector<Region> regions =
+        extractRegions(coverageFromBits(mask.width, mask.height, mask.mask), ro);
+    rep.seconds.regions = since(t0);
+    if (regions.empty())
+        throw Error("no region of at least " + std::to_string(options.minArea) +
+                        " pixels in the object mask",
+                    imageName);
+    for (size_t k = 0; k < regions.size(); ++k)
+        if (!regions[k].holes.empty())
+            throw Error("region " + std::to_string(k) + " has " +
+                            std::to_string(regions[k].holes.size()) +
+                            " hole(s): holes not supported yet",
+                        imageName);
+
+    Document doc;
+    doc.width = image.width;
+    doc.height = image.height;
+    for (const Region& region : regions) {
+        RegionReport rr;
+        rr.pixels = region.pixelCount;
+        rr.holes = static_cast<int>(region.holes.size());
+
+        t0 = Clock::now();
+        const RegionCorners corners = findCorners(region);
+        rr.seconds.corners = since(t0);
+
+        t0 = Clock::now();
+        TriangulateOptions to;
+        to.sampleFraction = options.sampleFraction;
+        const TriMesh tri = triangulateRegion(image, region, corners, to);
+        rr.seconds.triangulate = since(t0);
+        rr.triangles = static_cast<int>(tri.triangles.size());
+        rr.vertices = static_cast<int>(tri.vertices.size());
+
+        t0 = Clock::now();
+        const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
+        rr.seconds.topology = since(t0);
+
+        t0 = Clock::now();
+        const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
+        rr.seconds.feature = since(t0);
+        rr.featureSolves = feature.solves;
+        rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
+        if (rr.flippedTriangles != 0)
+            throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
+                            " triangles",
+                        imageName);
+
+        t0 = Clock::now();
+        const GridBuilder grid(tri, feature.map);
+        GridOptions go;
+        go.targetPatchSize = options.targetPatchSize;
+        RefineOptions rf;
+        rf.maxError = options.maxError;
+        rf.maxPatches = options.maxPatches;
+        rf.color.mode = options.colors;
+        RefineResult refined = refineMesh(grid, go, image, region, rf);
+        rr.seconds.mesh = since(t0);
+
+        rr.columns = refined.mesh.columns();
+        rr.rows = refined.mesh.rows();
+        rr.patches = refined.mesh.patchCount();
+        rr.error = refined.error;
+        rr.refinement = refined.steps;
+        rep.patches += rr.patches;
+        rep.seconds.corners += rr.seconds.corners;
+        rep.seconds.triangulate += rr.seconds.triangulate;
+        rep.seconds.topology += rr.seconds.topology;
+        rep.seconds.feature += rr.seconds.feature;
+        rep.seconds.mesh += rr.seconds.mesh;
+        rep.regions.push_back(std::move(rr));
+        doc.meshes.push_back(std::move(refined.mesh));
+    }
+    rep.error = measure(doc, image, mask);
+    return doc;
+}
+
+}  // namespace gm

@@ -1,0 +1,509 @@
+#include "converters/grid.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <string>
+
+#include "meshcore/error.h"
+#include "meshcore/evaluate.h"
+
+namespace gm {
+
+namespace {
+
+double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// Sorted, with values closer than `tol` merged (the first kept).
+std::vector<double> uniqueSorted(std::vector<double> values, double tol) {
+    std::sort(values.begin(), values.end());
+    std::vector<double> out;
+    for (double x : values)
+        if (out.empty() || x - out.back() > tol) out.push_back(x);
+    return out;
+}
+
+// Knots along one direction of extent `extent`: the required ones, then `count` intervals
+// as uniform as possible (each required interval split evenly, the longest pieces first).
+std::vector<double> knotsAlong(double extent, std::vector<double> required, int count,
+                               const std::vector<double>& explicitKnots, const char* axis) {
+    const double tol = 1e-9 * extent;
+    std::vector<double> req{0.0, extent};
+    for (double x : required)
+        if (std::isfinite(x) && x > tol && x < extent - tol) req.push_back(x);
+    req = uniqueSorted(req, tol);
+    req.front() = 0.0;
+    req.back() = extent;
+
+    if (!explicitKnots.empty()) {
+        if (explicitKnots.size() < 2 || std::abs(explicitKnots.front()) > tol ||
+            std::abs(explicitKnots.back() - extent) > tol)
+            throw Error(std::string("grid: explicit ") + axis + " knots do not span the rectangle");
+        for (size_t k = 1; k < explicitKnots.size(); ++k)
+            if (!(explicitKnots[k] > explicitKnots[k - 1]))
+                throw Error(std::string("grid: explicit ") + axis +
+                            " knots are not strictly increasing");
+        // Required knots win over explicit ones that lie within the merge tolerance of them.
+        std::vector<double> merged = req;
+        for (double x : explicitKnots) {
+            auto it = std::lower_bound(req.begin(), req.end(), x);
+            bool near =
+                (it != req.end() && *it - x <= tol) || (it != req.begin() && x - *(it - 1) <= tol);
+            if (!near) merged.push_back(x);
+        }
+        std::sort(merged.begin(), merged.end());
+        return merged;
+    }
+
+    const int nReq = static_cast<int>(req.size()) - 1;
+    const int n = std::max(count, nReq);
+    std::vector<int> pieces(static_cast<size_t>(nReq), 1);
+    using Item = std::pair<double, int>;  // piece length, interval
+    std::priority_queue<Item> queue;
+    for (int k = 0; k < nReq; ++k) queue.push({req[k + 1] - req[k], k});
+    for (int extra = n - nReq; extra > 0; --extra) {
+        const int k = queue.top().second;
+        queue.pop();
+        ++pieces[k];
+        queue.push({(req[k + 1] - req[k]) / pieces[k], k});
+    }
+    std::vector<double> knots;
+    for (int k = 0; k < nReq; ++k)
+        for (int p = 0; p < pieces[k]; ++p)
+            knots.push_back(req[k] + (req[k + 1] - req[k]) * p / pieces[k]);
+    knots.push_back(extent);
+    return knots;
+}
+
+int nearestIndex(const std::vector<double>& knots, double x) {
+    auto it = std::lower_bound(knots.begin(), knots.end(), x);
+    if (it == knots.end()) return static_cast<int>(knots.size()) - 1;
+    int k = static_cast<int>(it - knots.begin());
+    if (k > 0 && x - knots[k - 1] < knots[k] - x) --k;
+    return k;
+}
+
+}  // namespace
+
+void chooseKnots(const ParamMap& map, const GridOptions& options, std::vector<double>& u,
+                 std::vector<double>& v) {
+    if (!(map.px > 0) || !(map.py > 0) || !std::isfinite(map.px) || !std::isfinite(map.py))
+        throw Error("grid: the parameter rectangle is empty");
+    std::vector<double> ru = options.extraU, rv = options.extraV;
+    for (const GridSlit& s : options.slits) {
+        if (!(s.u0 > 0 && s.u1 > s.u0 && s.u1 < map.px && s.v > 0 && s.v < map.py))
+            throw Error("grid: a slit lies outside the parameter rectangle's interior");
+        ru.push_back(s.u0);
+        ru.push_back(s.u1);
+        rv.push_back(s.v);
+    }
+    const double size = options.targetPatchSize > 0 ? options.targetPatchSize : 64.0;
+    const int cols = options.columns > 0
+                         ? options.columns
+                         : std::max(1, static_cast<int>(std::lround(map.px / size)));
+    const int rows =
+        options.rows > 0 ? options.rows : std::max(1, static_cast<int>(std::lround(map.py / size)));
+    u = knotsAlong(map.px, ru, cols, options.knotsU, "u");
+    v = knotsAlong(map.py, rv, rows, options.knotsV, "v");
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct GridBuilder::Impl {
+    std::vector<Vec2> xy;  // image positions
+    ParamMap map;          // uv per vertex
+    std::vector<std::array<int, 3>> triangles;
+    // Bucket grid over the uv bounding box; bucket b holds cellTris[cellStart[b]..[b+1]).
+    double minU = 0, minV = 0, cellW = 1, cellH = 1;
+    int nu = 1, nv = 1;
+    std::vector<int> cellStart, cellTris;
+
+    struct Hit {
+        int tri = -1;
+        double l[3] = {0, 0, 0};
+    };
+
+    int cellU(double u) const {
+        return std::clamp(static_cast<int>(std::floor((u - minU) / cellW)), 0, nu - 1);
+    }
+    int cellV(double v) const {
+        return std::clamp(static_cast<int>(std::floor((v - minV) / cellH)), 0, nv - 1);
+    }
+
+    bool barycentric(int t, Vec2 p, double l[3]) const {
+        const auto& tri = triangles[t];
+        const Vec2 a = map.uv[tri[0]], b = map.uv[tri[1]], c = map.uv[tri[2]];
+        const double d = cross(b - a, c - a);
+        if (d == 0 || !std::isfinite(d)) return false;
+        l[1] = cross(p - a, c - a) / d;
+        l[2] = cross(b - a, p - a) / d;
+        l[0] = 1 - l[1] - l[2];
+        return true;
+    }
+
+    // Closest point of triangle t to p, as barycentrics; returns the squared distance.
+    double closest(int t, Vec2 p, double l[3]) const {
+        const auto& tri = triangles[t];
+        if (barycentric(t, p, l) && l[0] >= 0 && l[1] >= 0 && l[2] >= 0) return 0;
+        double best = std::numeric_limits<double>::infinity();
+        for (int e = 0; e < 3; ++e) {
+            const Vec2 a = map.uv[tri[e]], b = map.uv[tri[(e + 1) % 3]];
+            const Vec2 ab = b - a;
+            const double len2 = dot(ab, ab);
+            double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+            const Vec2 q = a + s * ab;
+            const double d2 = dot(p - q, p - q);
+            if (d2 < best) {
+                best = d2;
+                l[e] = 1 - s;
+                l[(e + 1) % 3] = s;
+                l[(e + 2) % 3] = 0;
+            }
+        }
+        return best;
+    }
+
+    Hit locate(Vec2 p, int side) const {
+        const double tol = 1e-10;
+        Hit hit, preferred;
+        const int cu = cellU(p.x), cv = cellV(p.y);
+        const int cell = cv * nu + cu;
+        for (int k = cellStart[cell]; k < cellStart[cell + 1]; ++k) {
+            const int t = cellTris[k];
+            double l[3];
+            if (!barycentric(t, p, l) || l[0] < -tol || l[1] < -tol || l[2] < -tol) continue;
+            if (hit.tri < 0) {
+                hit.tri = t;
+                std::copy(l, l + 3, hit.l);
+            }
+            if (side == 0) break;
+            const auto& tri = triangles[t];
+            const double cvv = (map.uv[tri[0]].y + map.uv[tri[1]].y + map.uv[tri[2]].y) / 3;
+            if ((side < 0 && cvv < p.y) || (side > 0 && cvv > p.y)) {
+                preferred.tri = t;
+                std::copy(l, l + 3, preferred.l);
+                break;
+            }
+        }
+        if (preferred.tri >= 0) hit = preferred;
+        if (hit.tri < 0) {
+            // A hair outside (or in a gap of) the domain: the nearest triangle, searched ring by
+            // ring until no closer one can exist.
+            double best = std::numeric_limits<double>::infinity();
+            const int maxRing = std::max(nu, nv);
+            for (int r = 0; r <= maxRing; ++r) {
+                const double ringDist = (r - 1) * std::min(cellW, cellH);
+                if (r > 0 && ringDist > 0 && ringDist * ringDist > best) break;
+                for (int y = cv - r; y <= cv + r; ++y) {
+                    if (y < 0 || y >= nv) continue;
+                    for (int x = cu - r; x <= cu + r; ++x) {
+                        if (x < 0 || x >= nu) continue;
+                        if (std::max(std::abs(x - cu), std::abs(y - cv)) != r) continue;
+                        const int c = y * nu + x;
+                        for (int k = cellStart[c]; k < cellStart[c + 1]; ++k) {
+                            double l[3];
+                            const double d2 = closest(cellTris[k], p, l);
+                            if (d2 < best) {
+                                best = d2;
+                                hit.tri = cellTris[k];
+                                std::copy(l, l + 3, hit.l);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert(hit.tri >= 0);
+        // Snap: a point on an edge (the domain boundary, a slit) interpolates that edge only.
+        double sum = 0;
+        for (double& x : hit.l) {
+            if (x < 1e-12) x = 0;
+            sum += x;
+        }
+        for (double& x : hit.l) x /= sum;
+        return hit;
+    }
+
+    Vec2 position(double u, double v, int side) const {
+        const Hit h = locate({u, v}, side);
+        const auto& tri = triangles[h.tri];
+        return h.l[0] * xy[tri[0]] + h.l[1] * xy[tri[1]] + h.l[2] * xy[tri[2]];
+    }
+};
+
+GridBuilder::GridBuilder(const TriMesh& mesh, const ParamMap& map) : impl_(new Impl) {
+    Impl& m = *impl_;
+    if (map.uv.size() != mesh.vertices.size())
+        throw Error("grid: the parameter map does not match the triangulation's vertices");
+    if (mesh.triangles.empty()) throw Error("grid: the triangulation has no triangles");
+    if (!(map.px > 0) || !(map.py > 0) || !std::isfinite(map.px) || !std::isfinite(map.py))
+        throw Error("grid: the parameter rectangle is empty");
+    const int nVert = static_cast<int>(mesh.vertices.size());
+    for (const auto& t : mesh.triangles)
+        for (int k : t)
+            if (k < 0 || k >= nVert) throw Error("grid: a triangle names a missing vertex");
+    m.xy = mesh.vertices;
+    m.map = map;
+    m.triangles = mesh.triangles;
+
+    double maxU = -std::numeric_limits<double>::infinity(), maxV = maxU;
+    m.minU = m.minV = std::numeric_limits<double>::infinity();
+    for (const Vec2& p : map.uv) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y))
+            throw Error("grid: the parameter map has a non-finite value");
+        m.minU = std::min(m.minU, p.x);
+        m.minV = std::min(m.minV, p.y);
+        maxU = std::max(maxU, p.x);
+        maxV = std::max(maxV, p.y);
+    }
+    // About two triangles per bucket, buckets roughly square in parameter space.
+    const double w = std::max(maxU - m.minU, 1e-12), h = std::max(maxV - m.minV, 1e-12);
+    const double cells = std::max(1.0, static_cast<double>(m.triangles.size()) / 2.0);
+    const double side = std::sqrt(w * h / cells);
+    m.nu = std::clamp(static_cast<int>(std::ceil(w / side)), 1, 4096);
+    m.nv = std::clamp(static_cast<int>(std::ceil(h / side)), 1, 4096);
+    m.cellW = w / m.nu;
+    m.cellH = h / m.nv;
+
+    const size_t nCells = static_cast<size_t>(m.nu) * m.nv;
+    std::vector<int> count(nCells + 1, 0);
+    auto forCells = [&](const std::array<int, 3>& t, auto&& fn) {
+        const Vec2 a = map.uv[t[0]], b = map.uv[t[1]], c = map.uv[t[2]];
+        const int x0 = m.cellU(std::min({a.x, b.x, c.x})), x1 = m.cellU(std::max({a.x, b.x, c.x}));
+        const int y0 = m.cellV(std::min({a.y, b.y, c.y})), y1 = m.cellV(std::max({a.y, b.y, c.y}));
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) fn(y * m.nu + x);
+    };
+    for (const auto& t : m.triangles) forCells(t, [&](int c) { ++count[c + 1]; });
+    for (size_t c = 0; c < nCells; ++c) count[c + 1] += count[c];
+    m.cellStart = count;
+    m.cellTris.resize(static_cast<size_t>(count[nCells]));
+    std::vector<int> fill(count.begin(), count.end() - 1);
+    for (int k = 0; k < static_cast<int>(m.triangles.size()); ++k)
+        forCells(m.triangles[k], [&](int c) { m.cellTris[fill[c]++] = k; });
+}
+
+GridBuilder::~GridBuilder() = default;
+GridBuilder::GridBuilder(GridBuilder&&) noexcept = default;
+GridBuilder& GridBuilder::operator=(GridBuilder&&) noexcept = default;
+
+const ParamMap& GridBuilder::map() const { return impl_->map; }
+
+Vec2 GridBuilder::imagePosition(double u, double v, int side) const {
+    return impl_->position(u, v, side);
+}
+
+namespace {
+
+// Least-squares fit of the derivative slots of a family of grid lines: each patch edge
+// contributes samples q(τ) of the iso-curve, modelled by the Hermite cubic
+// h0·Pa + h1·Pb + h2·Δ·σa·Da + h3·Δ·σb·Db; D are the unknown slots (pixels per global unit).
+class DerivativeFit {
+public:
+    explicit DerivativeFit(int slots) : slots_(slots), rhsX_(slots, 0.0), rhsY_(slots, 0.0) {}
+
+    // One patch edge of parameter length `delta` from Pa to Pb, with interior samples q at
+    // local parameters tau.
+    void addEdge(int slotA, double signA, int slotB, double signB, double delta, Vec2 pa, Vec2 pb,
+                 const std::vector<double>& tau, const std::vector<Vec2>& q) {
+        double aa = 0, ab = 0, bb = 0;
+        Vec2 ra, rb;
+        for (size_t k = 0; k < tau.size(); ++k) {
+            double h[4];
+            hermiteBasis(tau[k], h);
+            const double ca = h[2] * delta * signA, cb = h[3] * delta * signB;
+            const Vec2 r = q[k] - h[0] * pa - h[1] * pb;
+            aa += ca * ca;
+            ab += ca * cb;
+            bb += cb * cb;
+            ra = ra + ca * r;
+            rb = rb + cb * r;
+        }
+        // A weak pull toward the chord keeps every slot determined (e.g. degenerate edges)
+        // without biasing straight edges, whose chord is the exact derivative.
+        const double w = 1e-4 * delta * delta;
+        const Vec2 chord = (1.0 / delta) * (pb - pa);
+        aa += w;
+        bb += w;
+        ra = ra + (w * signA) * chord;
+        rb = rb + (w * signB) * chord;
+        triplets_.emplace_back(slotA, slotA, aa);
+        triplets_.emplace_back(slotB, slotB, bb);
+        triplets_.emplace_back(slotA, slotB, ab);
+        triplets_.emplace_back(slotB, slotA, ab);
+        rhsX_[slotA] += ra.x;
+        rhsY_[slotA] += ra.y;
+        rhsX_[slotB] += rb.x;
+        rhsY_[slotB] += rb.y;
+    }
+
+    std::vector<Vec2> solve() {
+        Eigen::SparseMatrix<double> A(slots_, slots_);
+        A.setFromTriplets(triplets_.begin(), triplets_.end());
+        for (int k = 0; k < slots_; ++k)
+            if (A.coeff(k, k) == 0) A.coeffRef(k, k) = 1;  // a slot no edge uses stays 0
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+        std::vector<Vec2> out(static_cast<size_t>(slots_));
+        if (ldlt.info() != Eigen::Success) return out;
+        Eigen::VectorXd bx = Eigen::Map<Eigen::VectorXd>(rhsX_.data(), slots_);
+        Eigen::VectorXd by = Eigen::Map<Eigen::VectorXd>(rhsY_.data(), slots_);
+        const Eigen::VectorXd x = ldlt.solve(bx), y = ldlt.solve(by);
+        for (int k = 0; k < slots_; ++k) out[k] = {x[k], y[k]};
+        return out;
+    }
+
+private:
+    int slots_;
+    std::vector<Eigen::Triplet<double>> triplets_;
+    std::vector<double> rhsX_, rhsY_;
+};
+
+}  // namespace
+
+GradientMesh GridBuilder::build(const GridOptions& options) const {
+    const Impl& m = *impl_;
+    GradientMesh mesh;
+    chooseKnots(m.map, options, mesh.u, mesh.v);
+    const int C = mesh.columns(), R = mesh.rows();
+    mesh.nodes.assign(static_cast<size_t>(C + 1) * (R + 1), Node{});
+
+    // Slits onto knot indices.
+    std::vector<int> slitOfNode(static_cast<size_t>(C + 1) * (R + 1), -1);  // interior nodes
+    for (const GridSlit& gs : options.slits) {
+        Slit s;
+        s.row = nearestIndex(mesh.v, gs.v);
+        s.i0 = nearestIndex(mesh.u, gs.u0);
+        s.i1 = nearestIndex(mesh.u, gs.u1);
+        if (s.row <= 0 || s.row >= R || s.i0 <= 0 || s.i1 >= C || s.i1 <= s.i0)
+            throw Error("grid: a slit does not lie on interior grid lines");
+        for (const Slit& o : mesh.slits)
+            if (o.row == s.row && s.i0 <= o.i1 && o.i0 <= s.i1)
+                throw Error("grid: two slits touch on one row");
+        s.below.resize(static_cast<size_t>(s.i1 - s.i0 - 1));
+        for (int i = s.i0 + 1; i < s.i1; ++i)
+            slitOfNode[static_cast<size_t>(s.row) * (C + 1) + i] =
+                static_cast<int>(mesh.slits.size());
+        mesh.slits.push_back(std::move(s));
+    }
+    std::vector<int> slitRow(static_cast<size_t>(R + 1), 0);  // rows holding slits
+    for (const Slit& s : mesh.slits) slitRow[s.row] = 1;
+    // The slit (if any) whose run [i0, i1] holds column i on row j, ends included.
+    auto slitAt = [&](int i, int j) -> const Slit* {
+        if (!slitRow[j]) return nullptr;
+        for (const Slit& s : mesh.slits)
+            if (s.row == j && i >= s.i0 && i <= s.i1) return &s;
+        return nullptr;
+    };
+
+    // Node positions (nodes on a slit: the main copy from above, the below copy from below).
+    for (int j = 0; j <= R; ++j) {
+        for (int i = 0; i <= C; ++i) {
+            const bool onSlit = slitAt(i, j) != nullptr;
+            mesh.node(i, j).pos = m.position(mesh.u[i], mesh.v[j], onSlit ? -1 : 0);
+        }
+    }
+    for (Slit& s : mesh.slits)
+        for (int i = s.i0 + 1; i < s.i1; ++i)
+            s.below[static_cast<size_t>(i - s.i0 - 1)].pos =
+                m.position(mesh.u[i], mesh.v[s.row], 1);
+
+    // Slot numbering: nodes, then below copies; for u also the slit ends' (left, right).
+    const int nNodes = (C + 1) * (R + 1);
+    std::vector<int> belowBase;
+    int nBelow = 0;
+    for (const Slit& s : mesh.slits) {
+        belowBase.push_back(nNodes + nBelow);
+        nBelow += s.i1 - s.i0 - 1;
+    }
+    const int endBase = nNodes + nBelow;
+    const int nSlotsU = endBase + 2 * static_cast<int>(mesh.slits.size());
+    const int nSlotsV = nNodes + nBelow;
+    auto slitIndex = [&](const Slit* s) { return static_cast<int>(s - mesh.slits.data()); };
+    // Node copy used by a patch on side `below` of row j at column i: slot and position.
+    auto copySlot = [&](int i, int j, bool below) {
+        const int sl = slitOfNode[static_cast<size_t>(j) * (C + 1) + i];
+        if (below && sl >= 0) return belowBase[sl] + (i - mesh.slits[sl].i0 - 1);
+        return j * (C + 1) + i;
+    };
+    auto copyPos = [&](int i, int j, bool below) {
+        const int sl = slitOfNode[static_cast<size_t>(j) * (C + 1) + i];
+        if (below && sl >= 0) return mesh.slits[sl].below[i - mesh.slits[sl].i0 - 1].pos;
+        return mesh.node(i, j).pos;
+    };
+
+    const int nSamples = std::max(2, options.samplesPerEdge);
+    std::vector<double> tau(static_cast<size_t>(nSamples));
+    for (int k = 0; k < nSamples; ++k) tau[k] = (k + 1.0) / (nSamples + 1.0);
+    std::vector<Vec2> q(static_cast<size_t>(nSamples));
+
+    // u: the patch edges along each row. On a slit run there are two edges (above, below).
+    DerivativeFit fitU(nSlotsU);
+    for (int j = 0; j <= R; ++j) {
+        for (int i = 0; i < C; ++i) {
+            const double du = mesh.u[i + 1] - mesh.u[i];
+            const Slit* run = nullptr;
+            if (slitRow[j])
+                for (const Slit& s : mesh.slits)
+                    if (s.row == j && i >= s.i0 && i < s.i1) run = &s;
+            for (int pass = 0; pass < (run ? 2 : 1); ++pass) {
+                const bool below = pass == 1;
+                const int side = run ? (below ? 1 : -1) : 0;
+                for (int k = 0; k < nSamples; ++k)
+                    q[k] = m.position(mesh.u[i] + tau[k] * du, mesh.v[j], side);
+                int slotA = copySlot(i, j, below), slotB = copySlot(i + 1, j, below);
+                const double sign = below ? -1.0 : 1.0;
+                double signA = 1, signB = 1;
+                if (run && i == run->i0) {
+                    slotA = endBase + 2 * slitIndex(run);
+                    signA = sign;
+                }
+                if (run && i + 1 == run->i1) {
+                    slotB = endBase + 2 * slitIndex(run) + 1;
+                    signB = sign;
+                }
+                fitU.addEdge(slotA, signA, slotB, signB, du, copyPos(i, j, below),
+                             copyPos(i + 1, j, below), tau, q);
+            }
+        }
+    }
+    const std::vector<Vec2> dU = fitU.solve();
+
+    // v: the patch edges along each column; an edge leaving a slit row downward starts at the
+    // below copy.
+    DerivativeFit fitV(nSlotsV);
+    for (int i = 0; i <= C; ++i) {
+        for (int j = 0; j < R; ++j) {
+            const double dv = mesh.v[j + 1] - mesh.v[j];
+            for (int k = 0; k < nSamples; ++k)
+                q[k] = m.position(mesh.u[i], mesh.v[j] + tau[k] * dv, 0);
+            fitV.addEdge(copySlot(i, j, true), 1, copySlot(i, j + 1, false), 1, dv,
+                         copyPos(i, j, true), copyPos(i, j + 1, false), tau, q);
+        }
+    }
+    const std::vector<Vec2> dV = fitV.solve();
+
+    for (int k = 0; k < nNodes; ++k) {
+        mesh.nodes[k].posU = dU[k];
+        mesh.nodes[k].posV = dV[k];
+    }
+    for (size_t s = 0; s < mesh.slits.size(); ++s) {
+        Slit& sl = mesh.slits[s];
+        for (size_t k = 0; k < sl.below.size(); ++k) {
+            sl.below[k].posU = dU[belowBase[s] + k];
+            sl.below[k].posV = dV[belowBase[s] + k];
+        }
+        sl.left.posU = dU[endBase + 2 * s];
+        sl.right.posU = dU[endBase + 2 * s + 1];
+    }
+    return mesh;
+}
+
+GradientMesh buildGrid(const TriMesh& mesh, const ParamMap& map, const GridOptions& options) {
+    return GridBuilder(mesh, map).build(options);
+}
+
+}  // namespace gm

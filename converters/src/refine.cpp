@@ -1,0 +1,196 @@
+#include "converters/refine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "meshcore/evaluate.h"
+
+namespace gm {
+
+namespace {
+
+struct Candidate {
+    double score = 0;  // estimated error a split removes (see rankCandidates)
+    bool alongU = true;
+    int interval = 0;
+    double knot = 0;
+};
+
+RefineStep stepOf(const ColorResult& r, char axis, double knot, double seconds) {
+    RefineStep s;
+    s.columns = r.mesh.columns();
+    s.rows = r.mesh.rows();
+    s.patches = r.mesh.patchCount();
+    s.meanAbs = r.error.meanAbs;
+    s.rmse = r.error.rmse;
+    s.psnr = r.error.psnr;
+    s.axis = axis;
+    s.knot = knot;
+    s.seconds = seconds;
+    return s;
+}
+
+// Every admissible split of the current mesh, best estimated first.
+//
+// The estimate of what a split removes: the part of each patch's residual that varies along
+// the split direction. Splitting the u interval adds freedom along u only, so it helps where
+// the residual, averaged over t, still varies with s (a vertical colour edge), and does little
+// where it varies with t alone. Per patch the residual is binned along s (and along t); the
+// energy of the bin means is the u (v) score, summed over the patch column (row).
+std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& image,
+                                      const Region& region, const RefineOptions& options) {
+    constexpr int kBins = 8;
+    const GradientMesh& m = cur.mesh;
+    const int C = m.columns(), R = m.rows(), P = m.patchCount();
+    std::vector<PatchHermite> hermite(static_cast<size_t>(P));
+    for (int j = 0; j < R; ++j)
+        for (int i = 0; i < C; ++i) hermite[static_cast<size_t>(j) * C + i] = patchHermite(m, i, j);
+    // Per patch and bin: residual sums per channel, and counts.
+    std::vector<double> sumS(static_cast<size_t>(P) * kBins * 3, 0.0), sumT(sumS.size(), 0.0);
+    std::vector<int> cntS(static_cast<size_t>(P) * kBins, 0), cntT(cntS.size(), 0);
+    // Per interval: absolute error and its first moment in the local parameter.
+    std::vector<double> wu(static_cast<size_t>(C), 0.0), su(wu.size(), 0.0);
+    std::vector<double> wv(static_cast<size_t>(R), 0.0), sv(wv.size(), 0.0);
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const size_t p = static_cast<size_t>(y) * image.width + x;
+            const PixelSample& ps = cur.samples[p];
+            if (!region.mask[p] || ps.mesh != 0 || ps.patch < 0) continue;
+            double hs[4], ht[4];
+            hermiteBasis(ps.s, hs);
+            hermiteBasis(ps.t, ht);
+            const PatchHermite& h = hermite[static_cast<size_t>(ps.patch)];
+            Vec3 c;
+            for (int a = 0; a < 2; ++a)
+                for (int b = 0; b < 2; ++b) {
+                    const HermiteCorner& k = h.corner[a][b];
+                    c = c + (hs[a] * ht[b]) * k.col + (hs[2 + a] * ht[b]) * k.colS +
+                        (hs[a] * ht[2 + b]) * k.colT;
+                }
+            const float* target = image.at(x, y);
+            const int bs = std::min(kBins - 1, static_cast<int>(ps.s * kBins));
+            const int bt = std::min(kBins - 1, static_cast<int>(ps.t * kBins));
+            const size_t is = static_cast<size_t>(ps.patch) * kBins + bs;
+            const size_t it = static_cast<size_t>(ps.patch) * kBins + bt;
+            double absErr = 0;
+            for (int ch = 0; ch < 3; ++ch) {
+                const double r = 255.0 * (std::clamp(c[ch], 0.0, 1.0) - target[ch]);
+                sumS[is * 3 + ch] += r;
+                sumT[it * 3 + ch] += r;
+                absErr += std::abs(r);
+            }
+            ++cntS[is];
+            ++cntT[it];
+            const int i = ps.patch % C, j = ps.patch / C;
+            wu[i] += absErr;
+            su[i] += absErr * ps.s;
+            wv[j] += absErr;
+            sv[j] += absErr * ps.t;
+        }
+    }
+    std::vector<double> colScore(static_cast<size_t>(C), 0.0),
+        rowScore(static_cast<size_t>(R), 0.0);
+    for (int p = 0; p < P; ++p) {
+        double eu = 0, ev = 0;
+        for (int b = 0; b < kBins; ++b) {
+            const size_t k = static_cast<size_t>(p) * kBins + b;
+            for (int ch = 0; ch < 3; ++ch) {
+                if (cntS[k]) eu += sumS[k * 3 + ch] * sumS[k * 3 + ch] / cntS[k];
+                if (cntT[k]) ev += sumT[k * 3 + ch] * sumT[k * 3 + ch] / cntT[k];
+            }
+        }
+        colScore[p % C] += eu;
+        rowScore[p / C] += ev;
+    }
+    auto place = [](double a, double b, double w, double sum) {
+        const double f = w > 0 ? std::clamp(sum / w, 0.25, 0.75) : 0.5;
+        return a + f * (b - a);
+    };
+    std::vector<Candidate> out;
+    if (static_cast<long>(C + 1) * R <= options.maxPatches)
+        for (int i = 0; i < C; ++i)
+            if (m.u[i + 1] - m.u[i] >= 2 * options.minInterval && wu[i] > 0)
+                out.push_back({colScore[i], true, i, place(m.u[i], m.u[i + 1], wu[i], su[i])});
+    if (static_cast<long>(R + 1) * C <= options.maxPatches)
+        for (int j = 0; j < R; ++j)
+            if (m.v[j + 1] - m.v[j] >= 2 * options.minInterval && wv[j] > 0)
+                out.push_back({rowScore[j], false, j, place(m.v[j], m.v[j + 1], wv[j], sv[j])});
+    std::stable_sort(out.begin(), out.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    return out;
+}
+
+}  // namespace
+
+RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
+                        const Region& region, const RefineOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    auto t0 = Clock::now();
+    auto lap = [&]() {
+        const auto t = Clock::now();
+        const double s = std::chrono::duration<double>(t - t0).count();
+        t0 = t;
+        return s;
+    };
+    ColorOptions co = options.color;
+    co.keepPixels = true;
+
+    GridOptions go = initial;
+    ColorResult cur = computeColors(grid.build(go), image, region, co);
+    go.knotsU = cur.mesh.u;
+    go.knotsV = cur.mesh.v;
+    RefineResult result;
+    result.steps.push_back(stepOf(cur, 0, 0, lap()));
+
+    while (cur.error.meanAbs > options.maxError) {
+        const std::vector<Candidate> ranked = rankCandidates(cur, image, region, options);
+        if (ranked.empty()) break;
+        const int perStep = std::max(1, options.candidates);
+        const int maxTries = std::max(perStep, options.maxTries);
+        bool accepted = false;
+        // Batches of `perStep` candidates, best of each batch; a later batch only when the
+        // earlier ones brought no improvement.
+        for (size_t start = 0;
+             start < ranked.size() && !accepted && static_cast<int>(start) < maxTries;
+             start += static_cast<size_t>(perStep)) {
+            ColorResult best;
+            bool have = false;
+            const Candidate* bestCand = nullptr;
+            for (size_t k = start; k < std::min(ranked.size(), start + perStep); ++k) {
+                const Candidate& c = ranked[k];
+                GridOptions trial = go;
+                std::vector<double>& knots = c.alongU ? trial.knotsU : trial.knotsV;
+                knots.insert(knots.begin() + c.interval + 1, c.knot);
+                ColorResult r = computeColors(grid.build(trial), image, region, co);
+                if (!have || r.error.meanAbs < best.error.meanAbs) {
+                    best = std::move(r);
+                    bestCand = &c;
+                    have = true;
+                }
+            }
+            if (have && best.error.meanAbs < cur.error.meanAbs) {
+                cur = std::move(best);
+                go.knotsU = cur.mesh.u;
+                go.knotsV = cur.mesh.v;
+                result.steps.push_back(
+                    stepOf(cur, bestCand->alongU ? 'u' : 'v', bestCand->knot, lap()));
+                accepted = true;
+            }
+        }
+        if (!accepted) break;
+    }
+    result.error = cur.error;
+    result.reachedTarget = cur.error.meanAbs <= options.maxError;
+    result.mesh = std::move(cur.mesh);
+    return result;
+}
+
+RefineResult refineMesh(const TriMesh& mesh, const ParamMap& map, const GridOptions& initial,
+                        const RgbaImage& image, const Region& region,
+                        const RefineOptions& options) {
+    return refineMesh(GridBuilder(mesh, map), initial, image, region, options);
+}
+
+}  // namespace gm

@@ -1,0 +1,231 @@
+#include "converters/colours.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "converters/grid.h"
+#include "meshcore/color_rule.h"
+#include "meshcore/error.h"
+#include "meshcore/evaluate.h"
+#include "synthetic_region.h"
+
+using namespace gm;
+
+namespace {
+
+const double kP = 400;
+
+gmtest::Synthetic disk() {
+    return gmtest::makeSynthetic(kP, kP, 48, 48, gmtest::diskMap(kP, 256, 256, 200), 512, 512);
+}
+
+Vec3 ramp(double x, double y) {
+    return {0.1 + 0.0012 * x + 0.0004 * y, 0.9 - 0.0011 * y, 0.3 + 0.0005 * x};
+}
+
+Vec3 smooth(double x, double y) {
+    return {0.5 + 0.4 * std::sin(x / 45.0) * std::cos(y / 60.0),
+            0.5 + 0.35 * std::cos((x + y) / 70.0), 0.45 + 0.4 * std::sin(y / 38.0)};
+}
+
+// A 200 × 200 rectangle (image offset 28) whose lattice is cut along v = 100 from u = 50 to
+// 150, both sides moved 3 px apart to open a hole; the region excludes the hole.
+gmtest::Synthetic slitRectangle() {
+    auto s = gmtest::makeSynthetic(
+        200, 200, 20, 20,
+        [](double u, double v) {
+            return Vec2{28 + u, 28 + v};
+        },
+        256, 256);
+    // Cut the lattice along v = 100 from u = 50 to 150: duplicate those vertices for the
+    // lower side and move both sides apart by 3 px to open a hole.
+    const int n = 20;
+    std::vector<int> lower(static_cast<size_t>((n + 1) * (n + 1)));
+    for (int k = 0; k < (n + 1) * (n + 1); ++k) lower[k] = k;
+    for (int i = 6; i < 15; ++i) {
+        const int k = 10 * (n + 1) + i;
+        lower[k] = static_cast<int>(s.tri.vertices.size());
+        s.tri.vertices.push_back(s.tri.vertices[k] + Vec2{0, 3});
+        s.map.uv.push_back(s.map.uv[k]);
+        s.tri.vertices[k] = s.tri.vertices[k] + Vec2{0, -3};
+    }
+    for (auto& t : s.tri.triangles) {
+        // Triangles of lattice row 10 (just below the slit) take the lower copies.
+        bool belowRow = false;
+        for (int k : t) belowRow = belowRow || s.map.uv[k].y > 100.5;
+        if (!belowRow) continue;
+        for (int& k : t)
+            if (k < (n + 1) * (n + 1)) k = lower[k];
+    }
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x)
+            if (y + 0.5 > 128 - 3 && y + 0.5 < 128 + 3 && x + 0.5 > 78 + 10 && x + 0.5 < 178 - 10)
+                s.region.mask[y * 256 + x] = 0;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("region colour samples come from the region's side only", "[colours]") {
+    Region r;
+    r.width = r.height = 8;
+    r.mask.assign(64, 0);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 4; ++x) r.mask[y * 8 + x] = 1;
+    const RgbaImage img = gmtest::paint(8, 8, [](double x, double) {
+        return x < 4 ? Vec3{1, 0, 0} : Vec3{0, 0, 1};
+    });
+    const Vec3 edge = sampleRegionColor(img, r, {4.0, 3.0});  // halfway between the two sides
+    CHECK(edge.r == Approx(1));
+    CHECK(edge.b == Approx(0));
+    const Vec3 outside = sampleRegionColor(img, r, {7.5, 7.5});  // nearest region pixel
+    CHECK(outside.r == Approx(1));
+    const Vec3 inside = sampleRegionColor(img, r, {2.0, 2.0});
+    CHECK(inside.r == Approx(1));
+
+    Region wrong = r;
+    wrong.width = 7;
+    CHECK_THROWS_AS(sampleRegionColor(img, wrong, {1, 1}), Error);
+}
+
+TEST_CASE("sampled mode samples nodes and follows the colour rule", "[colours]") {
+    const auto s = disk();
+    const RgbaImage img = gmtest::paint(512, 512, smooth);
+    GridOptions go;
+    go.columns = go.rows = 4;
+    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    ColorOptions co;
+    co.mode = ColorMode::Sampled;
+    const ColorResult r = computeColors(geo, img, s.region, co);
+    CHECK(followsColorRule(r.mesh, 1e-9));
+    const Node& n = r.mesh.node(2, 2);
+    const Vec3 e = smooth(n.pos.x, n.pos.y);
+    CHECK(n.col.g == Approx(e.g).margin(0.01));
+    CHECK(r.error.pixels == s.region.pixelCount);
+    CHECK(r.error.uncovered < 0.001);
+}
+
+TEST_CASE("a linear colour ramp is fitted by a 1x1 mesh", "[colours]") {
+    const auto s = disk();
+    const RgbaImage img = gmtest::paint(512, 512, ramp);
+    GridOptions go;
+    go.columns = go.rows = 1;
+    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    REQUIRE(geo.patchCount() == 1);
+    ColorOptions co;
+    co.mode = ColorMode::Fit;
+    const ColorResult fit = computeColors(geo, img, s.region, co);
+    co.mode = ColorMode::Sampled;
+    const ColorResult sampled = computeColors(geo, img, s.region, co);
+    WARN("1x1 disk, linear ramp: E fit " << fit.error.meanAbs << ", E sampled "
+                                         << sampled.error.meanAbs << ", uncovered "
+                                         << fit.error.uncovered);
+    CHECK(fit.error.meanAbs < 0.5);
+    // One cubic per quarter circle misses a sliver of the disk's outline pixels.
+    CHECK(fit.error.uncovered < 0.01);
+    // The render's colours are the fitted mesh's: measuring again gives the same figure.
+    const ColorResult again = measureColorError(fit.mesh, img, s.region);
+    CHECK(again.error.meanAbs == Approx(fit.error.meanAbs).margin(1e-6));
+}
+
+TEST_CASE("fit beats sampled on a smooth non-linear image at equal patch count", "[colours]") {
+    const auto s = disk();
+    const RgbaImage img = gmtest::paint(512, 512, smooth);
+    for (int cells : {3, 6}) {
+        GridOptions go;
+        go.columns = go.rows = cells;
+        const GradientMesh geo = buildGrid(s.tri, s.map, go);
+        ColorOptions co;
+        co.mode = ColorMode::Sampled;
+        const ColorResult sampled = computeColors(geo, img, s.region, co);
+        co.mode = ColorMode::Fit;
+        const ColorResult fit = computeColors(geo, img, s.region, co);
+        WARN(cells << "x" << cells << " disk, smooth image: E fit " << fit.error.meanAbs
+                   << " (PSNR " << fit.error.psnr << "), E sampled " << sampled.error.meanAbs
+                   << " (PSNR " << sampled.error.psnr << ")");
+        CHECK(fit.error.meanAbs < sampled.error.meanAbs);
+        CHECK(fit.error.rmse < sampled.error.rmse);
+    }
+}
+
+TEST_CASE("the fit respects slits: each side of a hole gets its own colours", "[colours]") {
+    // Red above the slit row, blue below it.
+    const auto s = slitRectangle();
+    const RgbaImage img = gmtest::paint(256, 256, [](double, double y) {
+        return y < 128 ? Vec3{0.9, 0.1, 0.1} : Vec3{0.1, 0.1, 0.9};
+    });
+    GridOptions go;
+    go.columns = 4;
+    go.rows = 2;
+    go.slits = {{100, 50, 150}};
+    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    REQUIRE(geo.slits.size() == 1);
+    const ColorResult fit = computeColors(geo, img, s.region);
+    const Slit& sl = fit.mesh.slits[0];
+    for (int i = sl.i0 + 1; i < sl.i1; ++i) {
+        CHECK(fit.mesh.node(i, sl.row).col.r > 0.6);  // above: red
+        CHECK(sl.below[i - sl.i0 - 1].col.b > 0.6);   // below: blue
+    }
+    WARN("slit mesh, red above / blue below: E fit " << fit.error.meanAbs);
+}
+
+TEST_CASE("colours reject mismatched inputs", "[colours]") {
+    const auto s = disk();
+    const RgbaImage small(100, 100);
+    GridOptions go;
+    go.columns = go.rows = 2;
+    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    CHECK_THROWS_AS(computeColors(geo, small, s.region), Error);
+}
+
+TEST_CASE("the fit recovers a mesh's own colours through slits and tangent breaks", "[colours]") {
+    // The target image is a render of the grid with arbitrary colours in every slot the
+    // patches use: node copies on both sides of the slit, the slit ends' ±d, a tangent break.
+    const auto s = slitRectangle();
+    GridOptions go;
+    go.columns = 4;
+    go.rows = 2;
+    go.slits = {{100, 50, 150}};
+    GradientMesh truth = buildGrid(s.tri, s.map, go);
+    REQUIRE(truth.slits.size() == 1);
+    unsigned seed = 12345;
+    auto rnd = [&seed](double lo, double hi) {
+        seed = seed * 1103515245u + 12345u;
+        return lo + (hi - lo) * ((seed >> 8) & 0xffff) / 65535.0;
+    };
+    auto colour = [&]() { return Vec3{rnd(0.2, 0.8), rnd(0.2, 0.8), rnd(0.2, 0.8)}; };
+    auto slope = [&]() { return Vec3{rnd(-0.004, 0.004), rnd(-0.004, 0.004), rnd(-0.004, 0.004)}; };
+    auto paintNode = [&](Node& n) {
+        n.col = colour();
+        n.colU = slope();
+        n.colV = slope();
+    };
+    for (Node& n : truth.nodes) paintNode(n);
+    for (Node& n : truth.slits[0].below) paintNode(n);
+    truth.slits[0].left.colU = slope();
+    truth.slits[0].right.colU = slope();
+    CornerTangent ct;
+    ct.i = 0;
+    ct.j = 0;
+    ct.a = 1;
+    ct.b = 1;
+    ct.posU = truth.node(1, 1).posU;
+    ct.colU = slope();
+    truth.tangents.push_back(ct);
+
+    RenderOptions ro;
+    ro.antialias = false;
+    const RgbaImage img = renderMesh(truth, 256, 256, ro).image;
+    Region region = s.region;
+    for (size_t p = 0; p < region.mask.size(); ++p) region.mask[p] = img.pixels[p * 4 + 3] >= 0.5f;
+    GradientMesh geometry = truth;
+    for (Node& n : geometry.nodes) n.col = n.colU = n.colV = Vec3{};
+    const ColorResult fit = computeColors(geometry, img, region);
+    WARN("recovering a slit mesh's colours: E fit " << fit.error.meanAbs << ", max "
+                                                    << fit.error.maxAbs);
+    CHECK(fit.error.meanAbs < 0.05);
+    CHECK(fit.error.maxAbs < 1.0);
+    const Slit& sl = fit.mesh.slits[0];
+    CHECK(sl.below[1].col.g == Approx(truth.slits[0].below[1].col.g).margin(0.01));
+    CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
+}
