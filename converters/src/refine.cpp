@@ -147,6 +147,39 @@ RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, con
     while (cur.error.meanAbs > options.maxError) {
         const std::vector<Candidate> ranked = rankCandidates(cur, image, region, options);
         if (ranked.empty()) break;
+        // A batch of the best-ranked splits first.
+        if (options.batchGrowth > 1.0 && ranked.size() > 1) {
+            const long C = cur.mesh.columns(), R = cur.mesh.rows();
+            const double cap = std::min<double>(options.maxPatches, options.batchGrowth * C * R);
+            long nu = 0, nv = 0;
+            std::vector<const Candidate*> batch;
+            for (const Candidate& c : ranked) {
+                if (c.score < options.batchFraction * ranked.front().score) break;
+                const long patches = (C + nu + (c.alongU ? 1 : 0)) * (R + nv + (c.alongU ? 0 : 1));
+                if (patches > cap) continue;
+                (c.alongU ? nu : nv) += 1;
+                batch.push_back(&c);
+            }
+            if (batch.size() > 1) {
+                GridOptions trial = go;
+                for (const Candidate* c : batch)
+                    (c->alongU ? trial.knotsU : trial.knotsV).push_back(c->knot);
+                std::sort(trial.knotsU.begin(), trial.knotsU.end());
+                std::sort(trial.knotsV.begin(), trial.knotsV.end());
+                ColorResult r = computeColors(grid.build(trial), image, region, co);
+                if (r.error.meanAbs < cur.error.meanAbs) {
+                    cur = std::move(r);
+                    go.knotsU = cur.mesh.u;
+                    go.knotsV = cur.mesh.v;
+                    RefineStep st = stepOf(cur, batch.front()->alongU ? 'u' : 'v',
+                                           batch.front()->knot, lap());
+                    for (const Candidate* c : batch)
+                        st.splits.emplace_back(c->alongU ? 'u' : 'v', c->knot);
+                    result.steps.push_back(std::move(st));
+                    continue;
+                }
+            }
+        }
         const int perStep = std::max(1, options.candidates);
         const int maxTries = std::max(perStep, options.maxTries);
         bool accepted = false;
@@ -174,8 +207,9 @@ RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, con
                 cur = std::move(best);
                 go.knotsU = cur.mesh.u;
                 go.knotsV = cur.mesh.v;
-                result.steps.push_back(
-                    stepOf(cur, bestCand->alongU ? 'u' : 'v', bestCand->knot, lap()));
+                RefineStep st = stepOf(cur, bestCand->alongU ? 'u' : 'v', bestCand->knot, lap());
+                st.splits.emplace_back(st.axis, st.knot);
+                result.steps.push_back(std::move(st));
                 accepted = true;
             }
         }

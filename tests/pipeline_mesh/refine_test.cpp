@@ -107,15 +107,15 @@ TEST_CASE("a colour step inside the region is refined near the step", "[refine]"
     checkSequence(r, ro);
     int nearStep = 0, along = 0;
     double closest = 1e9;
-    for (const RefineStep& st : r.steps) {
-        if (st.axis != 'u') continue;
-        ++along;
-        closest = std::min(closest, std::abs(st.knot - stepU));
-        if (std::abs(st.knot - stepU) < 30) ++nearStep;
-    }
     std::ostringstream knots;
     for (const RefineStep& st : r.steps)
-        if (st.axis) knots << st.axis << "=" << st.knot << " ";
+        for (const auto& [axis, knot] : st.splits) {
+            knots << axis << "=" << knot << " ";
+            if (axis != 'u') continue;
+            ++along;
+            closest = std::min(closest, std::abs(knot - stepU));
+            if (std::abs(knot - stepU) < 30) ++nearStep;
+        }
     WARN("step at u = " << stepU << ": inserted " << knots.str() << "; E " << r.error.meanAbs);
     CHECK(along >= 3);
     CHECK(nearStep * 2 > along);  // most splits go to the step

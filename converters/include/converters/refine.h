@@ -12,6 +12,7 @@
 // rather than only bisecting.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "converters/colours.h"
@@ -29,6 +30,12 @@ struct RefineOptions {
     int candidates = 1;        // splits tried per step, best estimated first (each try is a
                                // grid, a render and a fit: about 50 ms at 512²)
     int maxTries = 8;          // candidates tried per step before giving up (when none improves)
+    // Batches: a step splits every interval whose score is at least batchFraction of the best
+    // one, in rank order, while the patch count stays within batchGrowth times the current one
+    // (batchGrowth 1: one split per step, the paper's sequence). A batch that does not lower E
+    // falls back to single splits.
+    double batchGrowth = 1.4;
+    double batchFraction = 0.25;
     double minInterval = 1.0;  // intervals shorter than this (parameter units ≈ pixels) are
                                // not split
     ColorOptions color;        // mode and solver settings of every refit
@@ -39,7 +46,8 @@ struct RefineStep {
     int columns = 0, rows = 0, patches = 0;
     double meanAbs = 0, rmse = 0, psnr = 0;  // error figures of this mesh
     char axis = 0;       // 'u' or 'v': the interval split to get here; 0 for the initial grid
-    double knot = 0;     // the inserted knot, parameter units
+    double knot = 0;     // the inserted knot, parameter units (the first, for a batch)
+    std::vector<std::pair<char, double>> splits;  // every knot inserted by this step
     double seconds = 0;  // wall time spent to get here from the previous step
 };
 
