@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "formats/raster.h"
+#include "image_command.h"
 #include "formats/registry.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
@@ -35,7 +36,7 @@ const char* kMainHelp =
     "usage: gradmesh <command> [options]\n"
     "\n"
     "commands:\n"
-    "  convert IN -o OUT     convert a mesh file to another format (.gmb .svg .eps .pdf .png ...)\n"
+    "  convert IN -o OUT     convert an image (.png .jpg ...) or a mesh file to .gmb .svg .eps .pdf .png\n"
     "  render IN -o OUT.png  re-render a mesh file as a raster image\n"
     "  info IN               meshes, grid sizes, holes, patches, bytes\n"
     "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
@@ -208,6 +209,23 @@ int cmdConvert(const Args& a, bool renderOnly) {
                          gm::lowerExtension(out) + "'");
     requireInputFile(in);
     requireDistinct(in, out);
+    if (!renderOnly) {
+        const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
+        if (reader && reader->name() == "raster") {
+            if (auto it = a.values.find("--mask"); it != a.values.end()) {
+                requireInputFile(it->second);
+                requireDistinct(it->second, out);
+            }
+            try {
+                gm::convertImageCommand(in, out, *writer, wo, a.values);
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(e.what());
+            }
+            return 0;
+        }
+        for (const std::string& o : gm::kImageValuedOptions)
+            if (a.values.count(o)) throw UsageError(o + " applies to raster inputs only");
+    }
     const gm::Document doc = readDocument(in);
     const double pixels = doc.width * wo.rasterScale * doc.height * wo.rasterScale;
     if (writer->name() == "raster" && pixels > 1.0e9)
@@ -324,13 +342,16 @@ int main(int argc, char** argv) {
     for (int k = 2; k < argc; ++k) {
         if (std::strcmp(argv[k], "--help") == 0 || std::strcmp(argv[k], "-h") == 0) {
             std::fputs(kHelp.at(command).c_str(), stdout);
+            if (command == "convert") std::fputs(gm::kImageConvertHelp, stdout);
             return 0;
         }
     }
     try {
         if (command == "convert" || command == "render") {
-            const Args a = parseArgs(command, argc, argv,
-                                     {"--output", "--svg-colors", "--color-tolerance", "--scale", "--background"},
+            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance",
+                                            "--scale", "--background"};
+            if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
+            const Args a = parseArgs(command, argc, argv, valued,
                                      {"--compact", "--legacy", "--text-shading"});
             return cmdConvert(a, command == "render");
         }

@@ -1,6 +1,7 @@
 #include "converters/convert_image.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 
 #include "converters/corners.h"
@@ -119,6 +120,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         const GridBuilder grid(tri, feature.map);
         GridOptions go;
         go.targetPatchSize = options.targetPatchSize;
+        for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
         RefineOptions rf;
         rf.maxError = options.maxError;
         rf.maxPatches = options.maxPatches;
@@ -140,7 +142,12 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         rep.regions.push_back(std::move(rr));
         doc.meshes.push_back(std::move(refined.mesh));
     }
-    rep.error = measure(doc, image, mask);
+    // Measured over the regions' pixels: dropped specks and filled holes are not the object.
+    ObjectMask measured = mask;
+    std::fill(measured.mask.begin(), measured.mask.end(), uint8_t(0));
+    for (const Region& region : regions)
+        for (size_t k = 0; k < region.mask.size(); ++k) measured.mask[k] |= region.mask[k];
+    rep.error = measure(doc, image, measured);
     return doc;
 }
 

@@ -20,7 +20,7 @@ struct ConvertOptions {
     ColorMode colors = ColorMode::Fit;
     int minArea = 64;             // pixels: smaller components are dropped
     int minHole = 16;             // pixels: smaller holes are filled
-    double sampleFraction = 0.05; // triangulation samples per region pixel
+    double sampleFraction = 0.03; // triangulation samples per region pixel
     double targetPatchSize = 96;  // pixels: the initial grid's patch size
 };
 

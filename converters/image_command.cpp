@@ -1,0 +1,229 @@
+#include "image_command.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include "converters/convert_image.h"
+#include "converters/foreground.h"
+#include "formats/gmb.h"
+#include "formats/raster.h"
+#include "formats/svg.h"
+#include "meshcore/error.h"
+
+namespace gm {
+
+const std::set<std::string> kImageValuedOptions = {
+    "--mask", "--max-error", "--max-patches", "--report", "--colors", "--max-pixels",
+    "--min-area", "--min-hole", "--samples"};
+
+const char* kImageConvertHelp =
+    "  raster input (IN is .png .jpg .tif .exr ...): the object becomes gradient meshes\n"
+    "  --mask M.png            object mask (white = object); else the alpha channel when it is\n"
+    "                          not fully opaque; else foreground extraction (GrabCut)\n"
+    "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
+    "  --max-patches N         patch budget per region (default 400)\n"
+    "  --colors MODE           fit (default: least squares over the pixels) or sampled\n"
+    "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
+    "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
+    "  --min-area N            drop object components under N pixels (default 64)\n"
+    "  --min-hole N            fill holes under N pixels (default 16)\n"
+    "  --samples F             triangulation samples per region pixel (default 0.03)\n";
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double number(const std::map<std::string, std::string>& values, const std::string& key,
+              double fallback, double lo, double hi) {
+    auto it = values.find(key);
+    if (it == values.end()) return fallback;
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (it->second.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+        std::ostringstream s;
+        s << key << " expects a number from " << lo << " to " << hi << ", got '" << it->second
+          << "'";
+        throw std::invalid_argument(s.str());
+    }
+    return v;
+}
+
+// JSON numbers: finite values as they are, infinity (PSNR of a perfect fit) as a large number.
+std::string num(double v) {
+    if (std::isnan(v)) return "null";
+    if (std::isinf(v)) return v > 0 ? "1e308" : "-1e308";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+std::string jsonString(const std::string& s) {
+    std::string r = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') {
+            r += '\\';
+            r += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\u%04x", c);
+            r += b;
+        } else {
+            r += c;
+        }
+    }
+    return r + "\"";
+}
+
+std::string errorJson(const FitError& e) {
+    std::ostringstream s;
+    s << "{\"E\": " << num(e.meanAbs) << ", \"rmse\": " << num(e.rmse)
+      << ", \"psnr\": " << num(e.psnr) << ", \"max\": " << num(e.maxAbs)
+      << ", \"uncovered\": " << num(e.uncovered) << ", \"pixels\": " << e.pixels << "}";
+    return s.str();
+}
+
+std::string secondsJson(const StageSeconds& t) {
+    std::ostringstream s;
+    s << "{\"regions\": " << num(t.regions) << ", \"corners\": " << num(t.corners)
+      << ", \"triangulate\": " << num(t.triangulate) << ", \"topology\": " << num(t.topology)
+      << ", \"feature\": " << num(t.feature) << ", \"mesh\": " << num(t.mesh)
+      << ", \"T\": " << num(t.T()) << ", \"P\": " << num(t.P()) << ", \"M\": " << num(t.M())
+      << ", \"total\": " << num(t.total()) << "}";
+    return s.str();
+}
+
+void writeTextAtomically(const std::string& text, const std::string& path) {
+    const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        if (!f) throw Error("cannot create the report file", path);
+        f << text;
+        f.flush();
+        if (!f) {
+            std::filesystem::remove(tmp);
+            throw Error("cannot write the report file", path);
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp);
+        throw Error("cannot write the report file: " + ec.message(), path);
+    }
+}
+
+void requireWritableDir(const std::string& path) {
+    const std::filesystem::path p(path);
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+        throw Error("the output's directory does not exist", path);
+}
+
+}  // namespace
+
+void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
+                         const WriteOptions& writeOptions,
+                         const std::map<std::string, std::string>& values) {
+    const auto tStart = Clock::now();
+    ConvertOptions co;
+    co.maxError = number(values, "--max-error", co.maxError, 0.0, 255.0);
+    co.maxPatches = static_cast<int>(number(values, "--max-patches", co.maxPatches, 1, 1e6));
+    co.minArea = static_cast<int>(number(values, "--min-area", co.minArea, 1, 1e9));
+    co.minHole = static_cast<int>(number(values, "--min-hole", co.minHole, 0, 1e9));
+    co.sampleFraction = number(values, "--samples", co.sampleFraction, 1e-4, 1.0);
+    const uint64_t maxPixels =
+        static_cast<uint64_t>(number(values, "--max-pixels", double(uint64_t(64) << 20), 1, 1e12));
+    if (auto it = values.find("--colors"); it != values.end()) {
+        if (it->second == "fit")
+            co.colors = ColorMode::Fit;
+        else if (it->second == "sampled")
+            co.colors = ColorMode::Sampled;
+        else
+            throw std::invalid_argument("--colors expects fit or sampled, got '" + it->second +
+                                        "'");
+    }
+    std::string reportPath;
+    if (auto it = values.find("--report"); it != values.end()) {
+        reportPath = it->second;
+        if (reportPath.empty()) throw std::invalid_argument("--report needs a file name");
+        requireWritableDir(reportPath);
+        std::error_code ec;
+        if (std::filesystem::exists(reportPath, ec) && std::filesystem::equivalent(in, reportPath, ec))
+            throw Error("the report would overwrite the input", reportPath);
+    }
+    std::string maskPath;
+    if (auto it = values.find("--mask"); it != values.end()) maskPath = it->second;
+    requireWritableDir(out);
+
+    // Read: sizes are checked by readImage before any pixel is allocated.
+    auto t0 = Clock::now();
+    const RgbaImage image = readImage(in, maxPixels);
+    RgbaImage maskImage;
+    if (!maskPath.empty()) maskImage = readImage(maskPath, maxPixels);
+    const double readSeconds = since(t0);
+
+    t0 = Clock::now();
+    const ObjectMask mask =
+        objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+    const double maskSeconds = since(t0);
+
+    ConvertReport report;
+    const Document doc = convertImage(image, mask, co, in, &report);
+
+    t0 = Clock::now();
+    writer.write(doc, out, writeOptions);
+    const double writeSeconds = since(t0);
+
+    if (reportPath.empty()) return;
+    std::error_code ec;
+    const auto outBytes = std::filesystem::file_size(out, ec);
+    std::ostringstream s;
+    s << "{\n  \"input\": " << jsonString(in) << ",\n  \"output\": " << jsonString(out)
+      << ",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
+      << ",\n  \"mask_source\": " << jsonString(report.maskSource)
+      << ",\n  \"colors\": " << jsonString(co.colors == ColorMode::Fit ? "fit" : "sampled")
+      << ",\n  \"max_error\": " << num(co.maxError) << ",\n  \"max_patches\": " << co.maxPatches
+      << ",\n  \"seconds\": " << secondsJson(report.seconds) << ",\n  \"io_seconds\": {\"read\": "
+      << num(readSeconds) << ", \"mask\": " << num(maskSeconds) << ", \"write\": "
+      << num(writeSeconds) << ", \"end_to_end\": " << num(since(tStart)) << "}"
+      << ",\n  \"meshes\": " << doc.meshes.size() << ",\n  \"patches\": " << report.patches
+      << ",\n  \"error\": " << errorJson(report.error) << ",\n  \"bytes\": {\"output\": "
+      << (ec ? 0 : outBytes) << ", \"gmb_lossless\": " << encodeGmb(doc, false).size()
+      << ", \"gmb_compact\": " << encodeGmb(doc, true).size() << ", \"svg\": "
+      << encodeSvg(doc, WriteOptions{}).size() << "},\n  \"regions\": [";
+    for (size_t k = 0; k < report.regions.size(); ++k) {
+        const RegionReport& r = report.regions[k];
+        s << (k ? "," : "") << "\n    {\"pixels\": " << r.pixels << ", \"holes\": " << r.holes
+          << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
+          << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns
+          << ", " << r.rows << "], \"patches\": " << r.patches
+          << ", \"feature_solves\": " << r.featureSolves
+          << ",\n     \"seconds\": " << secondsJson(r.seconds)
+          << ",\n     \"error\": " << errorJson(r.error) << ",\n     \"refinement\": [";
+        for (size_t j = 0; j < r.refinement.size(); ++j) {
+            const RefineStep& st = r.refinement[j];
+            s << (j ? ", " : "") << "\n       {\"grid\": [" << st.columns << ", " << st.rows
+              << "], \"patches\": " << st.patches << ", \"E\": " << num(st.meanAbs)
+              << ", \"psnr\": " << num(st.psnr) << ", \"axis\": "
+              << (st.axis ? jsonString(std::string(1, st.axis)) : "null")
+              << ", \"knot\": " << num(st.knot) << ", \"seconds\": " << num(st.seconds) << "}";
+        }
+        s << "]}";
+    }
+    s << "\n  ]\n}\n";
+    writeTextAtomically(s.str(), reportPath);
+}
+
+}  // namespace gm

@@ -1,0 +1,24 @@
+// `gradmesh convert IMAGE -o OUT`: the raster → mesh path of the command (issue 4). Kept apart
+// from gradmesh_main.cpp so the mesh-file commands do not grow with the pipeline's options.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+
+#include "formats/registry.h"
+
+namespace gm {
+
+// Options of convert that only make sense for a raster input.
+extern const std::set<std::string> kImageValuedOptions;
+extern const char* kImageConvertHelp;
+
+// Converts the raster image `in` and writes `out` through `writer`. `values` holds the parsed
+// valued options (--mask, --max-error, ...). Throws gm::Error (input/output problems) or
+// std::invalid_argument (a bad option value; the message names the option).
+void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
+                         const WriteOptions& writeOptions,
+                         const std::map<std::string, std::string>& values);
+
+}  // namespace gm
