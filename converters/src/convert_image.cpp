@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "converters/boundary.h"
 #include "converters/corners.h"
 #include "converters/feature_map.h"
 #include "converters/grid.h"
@@ -68,6 +69,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     RegionOptions ro;
     ro.minArea = options.minArea;
     ro.minHole = options.minHole;
+    ro.outerLevel = options.outerLevel;
     const std::vector<Region> regions =
         extractRegions(coverageFromBits(mask.width, mask.height, mask.mask), ro);
     rep.seconds.regions = since(t0);
@@ -75,13 +77,6 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         throw Error("no region of at least " + std::to_string(options.minArea) +
                         " pixels in the object mask",
                     imageName);
-    for (size_t k = 0; k < regions.size(); ++k)
-        if (!regions[k].holes.empty())
-            throw Error("region " + std::to_string(k) + " has " +
-                            std::to_string(regions[k].holes.size()) +
-                            " hole(s): holes not supported yet",
-                        imageName);
-
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
@@ -104,6 +99,22 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
 
         t0 = Clock::now();
         const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
+        // A convex-combination map squeezes a long thin part whose two flanks lie on one side of
+        // the rectangle exponentially (a leg or a tail between two corners): in double precision
+        // its triangles reach zero area, and no grid can follow it.
+        for (const auto& t : tri.triangles) {
+            const Vec2 a = topo.map.uv[t[0]], b = topo.map.uv[t[1]], c = topo.map.uv[t[2]];
+            if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 1e-12 * corners.px * corners.py) {
+                const Vec2 p = tri.vertices[t[0]];
+                throw Error("region " + std::to_string(rep.regions.size()) +
+                                ": the parameterisation squeezes a thin part near (" +
+                                std::to_string(static_cast<int>(p.x)) + ", " +
+                                std::to_string(static_cast<int>(p.y)) +
+                                ") to zero area (a long thin part with both flanks on one side of "
+                                "the mesh rectangle is not supported yet)",
+                            imageName);
+            }
+        }
         rr.seconds.topology = since(t0);
 
         t0 = Clock::now();
@@ -121,6 +132,12 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         GridOptions go;
         go.targetPatchSize = options.targetPatchSize;
         for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
+        BoundaryFitOptions bf;
+        bf.maxPatches = std::max(1, options.maxPatches * 3 / 4);
+        bf.tolerance = options.outlineTolerance;
+        const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
+        rr.outlineDeviation = fitted.maxDeviation;
+        rr.outlineKnots = fitted.addedU + fitted.addedV;
         RefineOptions rf;
         rf.maxError = options.maxError;
         rf.maxPatches = options.maxPatches;

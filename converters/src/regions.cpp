@@ -392,21 +392,34 @@ Region buildRegion(int width, int height, const Component& comp, int compIndex,
         const int x = g.x0 + k % g.w, y = g.y0 + k / g.w;
         return x < 0 || y < 0 || x >= width || y >= height;
     };
-    auto crossing = [&](int a, int b) {
-        const Vec2 pa = pixelCentre(a), pb = pixelCentre(b);
-        double t = 0.5;  // the image border, between a border pixel and the padding beyond it
-        if (!outsideImage(b)) {
-            const int ia = (a / g.w + margin) * fw + a % g.w + margin;
-            const int ib = (b / g.w + margin) * fw + b % g.w + margin;
-            // Force each sample to its side of 0.5 so the crossing lies strictly between them,
-            // and keep it off the samples so that loops through a saddle stay apart.
-            const double fa = std::max<double>(field[ia], 0.55);
-            const double fb = std::min<double>(field[ib], 0.45);
-            t = std::clamp((fa - 0.5) / (fa - fb), 0.1, 0.9);
-        }
-        return pa + t * (pb - pa);
+    // The crossing of the field's iso-line `level` between an inside pixel centre a and an
+    // outside one b, never nearer either centre than 0.1 px (loops through a saddle stay apart)
+    // and, with `minT`, never nearer a than that.
+    auto crossingAt = [&](double level, double minT) {
+        return [&, level, minT](int a, int b) {
+            const Vec2 pa = pixelCentre(a), pb = pixelCentre(b);
+            double t = 0.5;  // the image border, between a border pixel and the padding beyond
+            if (!outsideImage(b)) {
+                const int ia = (a / g.w + margin) * fw + a % g.w + margin;
+                const int ib = (b / g.w + margin) * fw + b % g.w + margin;
+                // Each sample forced to its side of the level, so the crossing lies between.
+                const double fa = std::max<double>(field[ia], level + 0.05);
+                const double fb = std::min<double>(field[ib], level - 0.05);
+                t = std::clamp((fa - level) / (fa - fb), minT, 0.9);
+            }
+            return pa + t * (pb - pa);
+        };
     };
-    std::vector<Polygon> loops = marchingSquares(g, inside, crossing);
+    std::vector<Polygon> loops = marchingSquares(g, inside, crossingAt(0.5, 0.1));
+    if (options.outerLevel != 0.5) {
+        // The outer loop again, from the lower iso-line and never inside a pixel edge; the
+        // holes keep the 0.5 iso-line. The outer loop only moves away from the holes.
+        std::vector<Polygon> grown = marchingSquares(g, inside, crossingAt(options.outerLevel, 0.5));
+        for (auto& l : loops)
+            if (polygonSignedArea(l) > 0)
+                for (auto& o : grown)
+                    if (polygonSignedArea(o) > 0) l = std::move(o);
+    }
     std::vector<Polygon*> loopPtrs;
     for (auto& l : loops) loopPtrs.push_back(&l);
     simplifyLoops(loopPtrs, options.simplifyTolerance, options.maxSegment);

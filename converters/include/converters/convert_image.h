@@ -22,6 +22,8 @@ struct ConvertOptions {
     int minHole = 16;             // pixels: smaller holes are filled
     double sampleFraction = 0.03; // triangulation samples per region pixel
     double targetPatchSize = 96;  // pixels: the initial grid's patch size
+    double outerLevel = 0.35;     // RegionOptions::outerLevel
+    double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
 };
 
 struct StageSeconds {
@@ -40,6 +42,8 @@ struct RegionReport {
     FitError error;
     std::vector<RefineStep> refinement;
     int featureSolves = 0;
+    double outlineDeviation = 0;  // pixels: boundary curves against the traced outline
+    int outlineKnots = 0;         // knots added so the boundary follows the outline
 };
 
 struct ConvertReport {

@@ -27,6 +27,10 @@ struct RegionOptions {
                                      // tracing (0: none); it never changes which pixels are inside
     double simplifyTolerance = 0.3;  // Douglas–Peucker tolerance, pixels (0: keep every point)
     double maxSegment = 6.0;         // longest loop edge after simplification, pixels
+    // Iso-level of the smoothed coverage that the outer loop follows (holes follow 0.5). Below
+    // 0.5 the outline moves outwards, and it then never cuts inside an object pixel's edge: a
+    // mesh within a fraction of a pixel of it covers every object pixel centre.
+    double outerLevel = 0.5;
 };
 
 // Coverage = alpha of an image (straight alpha).

@@ -1,0 +1,148 @@
+#include "converters/boundary.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "meshcore/evaluate.h"
+
+namespace gm {
+
+namespace {
+
+// One boundary edge: a patch, which of its sides, and the map parameters under it.
+struct BoundaryEdge {
+    int i = 0, j = 0;      // patch
+    bool alongS = true;    // the edge runs along s (t fixed) or along t (s fixed)
+    double fixed = 0;      // the fixed local parameter, 0 or 1
+    int side = 0;          // inverse-map side for points on a slit
+    bool splitsU = true;   // which knot interval lies under it
+    int interval = 0;
+};
+
+std::vector<BoundaryEdge> boundaryEdges(const GradientMesh& m) {
+    const int C = m.columns(), R = m.rows();
+    std::vector<BoundaryEdge> e;
+    for (int i = 0; i < C; ++i) {
+        e.push_back({i, 0, true, 0.0, 0, true, i});
+        e.push_back({i, R - 1, true, 1.0, 0, true, i});
+    }
+    for (int j = 0; j < R; ++j) {
+        e.push_back({0, j, false, 0.0, 0, false, j});
+        e.push_back({C - 1, j, false, 1.0, 0, false, j});
+    }
+    for (const Slit& s : m.slits)
+        for (int i = s.i0; i < s.i1; ++i) {
+            e.push_back({i, s.row - 1, true, 1.0, -1, true, i});
+            e.push_back({i, s.row, true, 0.0, 1, true, i});
+        }
+    return e;
+}
+
+double segmentDistance(Vec2 p, Vec2 a, Vec2 b) {
+    const Vec2 ab = b - a;
+    const double len2 = ab.x * ab.x + ab.y * ab.y;
+    const double t = len2 > 0 ? std::clamp(((p.x - a.x) * ab.x + (p.y - a.y) * ab.y) / len2, 0.0, 1.0) : 0.0;
+    return norm(p - (a + t * ab));
+}
+
+// Largest distance from a point of `from` to the polyline `to`.
+double directedDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+    double worst = 0;
+    for (const Vec2& p : from) {
+        double best = INFINITY;
+        for (size_t k = 0; k + 1 < to.size() && best > worst; ++k)
+            best = std::min(best, segmentDistance(p, to[k], to[k + 1]));
+        worst = std::max(worst, best);
+    }
+    return worst;
+}
+
+// Hausdorff distance between the edge's cubic and the outline under it, both sampled densely.
+double edgeDeviation(const GridBuilder& grid, const GradientMesh& m, const BoundaryEdge& e) {
+    const PatchHermite h = patchHermite(m, e.i, e.j);
+    auto curveAt = [&](double a) {
+        return (e.alongS ? evaluatePatch(h, a, e.fixed) : evaluatePatch(h, e.fixed, a)).pos;
+    };
+    auto outlineAt = [&](double a) {
+        const double u = e.alongS ? m.u[e.i] + a * (m.u[e.i + 1] - m.u[e.i]) : m.u[e.i + (e.fixed > 0.5)];
+        const double v = e.alongS ? m.v[e.j + (e.fixed > 0.5)] : m.v[e.j] + a * (m.v[e.j + 1] - m.v[e.j]);
+        return grid.imagePosition(u, v, e.side);
+    };
+    const double chord = norm(curveAt(1) - curveAt(0));
+    const int n = std::clamp(static_cast<int>(std::ceil(chord / 1.5)), 8, 64);
+    std::vector<Vec2> curve(static_cast<size_t>(n) + 1), outline(static_cast<size_t>(4 * n) + 1);
+    for (int k = 0; k <= n; ++k) curve[static_cast<size_t>(k)] = curveAt(double(k) / n);
+    for (int k = 0; k <= 4 * n; ++k) outline[static_cast<size_t>(k)] = outlineAt(double(k) / (4 * n));
+    const double dev = std::max(directedDistance(curve, outline), directedDistance(outline, curve));
+    return dev;
+}
+
+}  // namespace
+
+double boundaryDeviation(const GridBuilder& grid, const GradientMesh& mesh) {
+    double worst = 0;
+    for (const BoundaryEdge& e : boundaryEdges(mesh))
+        worst = std::max(worst, edgeDeviation(grid, mesh, e));
+    return worst;
+}
+
+BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
+                              const BoundaryFitOptions& fit) {
+    BoundaryFitResult result;
+    constexpr double kMinInterval = 0.5;  // parameter units (pixels of the map's rectangle)
+    for (;;) {
+        const GradientMesh m = grid.build(options);
+        const int C = m.columns(), R = m.rows();
+        // Worst deviation per knot interval.
+        std::vector<double> devU(static_cast<size_t>(C), 0.0), devV(static_cast<size_t>(R), 0.0);
+        result.maxDeviation = 0;
+        for (const BoundaryEdge& e : boundaryEdges(m)) {
+            const double d = edgeDeviation(grid, m, e);
+            result.maxDeviation = std::max(result.maxDeviation, d);
+            double& slot = e.splitsU ? devU[static_cast<size_t>(e.interval)]
+                                     : devV[static_cast<size_t>(e.interval)];
+            slot = std::max(slot, d);
+        }
+        if (result.maxDeviation <= fit.tolerance || result.rounds >= fit.maxRounds) break;
+        struct Split {
+            double dev;
+            bool alongU;
+            int interval;
+        };
+        std::vector<Split> splits;
+        for (int i = 0; i < C; ++i)
+            if (devU[i] > fit.tolerance && m.u[i + 1] - m.u[i] >= 2 * kMinInterval)
+                splits.push_back({devU[i], true, i});
+        for (int j = 0; j < R; ++j)
+            if (devV[j] > fit.tolerance && m.v[j + 1] - m.v[j] >= 2 * kMinInterval)
+                splits.push_back({devV[j], false, j});
+        std::stable_sort(splits.begin(), splits.end(),
+                         [](const Split& a, const Split& b) { return a.dev > b.dev; });
+        // From here on the knots are explicit, so that the uniform ones do not move.
+        options.knotsU = m.u;
+        options.knotsV = m.v;
+        long nu = 0, nv = 0;
+        bool any = false;
+        for (const Split& s : splits) {
+            const long patches = (C + nu + s.alongU) * (R + nv + !s.alongU);
+            if (patches > fit.maxPatches) continue;
+            if (s.alongU) {
+                options.knotsU.push_back(0.5 * (m.u[s.interval] + m.u[s.interval + 1]));
+                ++nu;
+            } else {
+                options.knotsV.push_back(0.5 * (m.v[s.interval] + m.v[s.interval + 1]));
+                ++nv;
+            }
+            any = true;
+        }
+        if (!any) break;
+        std::sort(options.knotsU.begin(), options.knotsU.end());
+        std::sort(options.knotsV.begin(), options.knotsV.end());
+        result.addedU += static_cast<int>(nu);
+        result.addedV += static_cast<int>(nv);
+        ++result.rounds;
+    }
+    return result;
+}
+
+}  // namespace gm
