@@ -243,6 +243,7 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
                 unknown[i] = frozen[i] ? -1 : count++;
                 fixedValues.row(i) << uv[i].x, uv[i].y;
             }
+            if (count == 0) break;  // every vertex fixed or frozen: nothing to solve
             const detail::LaplacianSystem sys =
                 detail::assembleLaplacian(W, unknown, count, fixedValues);
             solver.compute(sys.A);

@@ -551,14 +551,16 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py) {
         detail::assembleLaplacian(detail::meanValueWeights(mesh, mesh.vertices), unknown, count, fixed);
     // One factorisation for both coordinates. Measured on 20k/100k-vertex meshes: SparseLU
     // 160/1700 ms against 190/3600 ms for BiCGSTAB with an incomplete-LU preconditioner.
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-    solver.compute(sys.A);
-    if (solver.info() != Eigen::Success)
-        throw Error("topology map: the mean-value system could not be factorised");
-    const Eigen::MatrixXd x = solver.solve(sys.rhs);
-    if (!x.allFinite()) throw Error("topology map: the mean-value system could not be solved");
-    for (int i = 0; i < nv; ++i)
-        if (unknown[i] >= 0) uv[i] = {x(unknown[i], 0), x(unknown[i], 1)};
+    if (count > 0) {  // a small region may have every vertex on its outline
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+        solver.compute(sys.A);
+        if (solver.info() != Eigen::Success)
+            throw Error("topology map: the mean-value system could not be factorised");
+        const Eigen::MatrixXd x = solver.solve(sys.rhs);
+        if (!x.allFinite()) throw Error("topology map: the mean-value system could not be solved");
+        for (int i = 0; i < nv; ++i)
+            if (unknown[i] >= 0) uv[i] = {x(unknown[i], 0), x(unknown[i], 1)};
+    }
     TopologyMap result;
     result.map = ParamMap{px, py, std::move(uv)};
     if (const int flips = countFlippedTriangles(mesh, result.map); flips > 0)
