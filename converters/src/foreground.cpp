@@ -65,9 +65,12 @@ ObjectMask objectMask(const RgbaImage& image, const RgbaImage* maskImage,
             throw Error("mask is empty (no white pixels)", maskPath);
         return m;
     }
-    bool opaque = true;
-    for (size_t k = 0; k < n && opaque; ++k) opaque = image.pixels[k * 4 + 3] >= 1.f;
-    if (!opaque) {
+    // The alpha channel says where the object is when it makes some pixels transparent: a
+    // thousandth of the image at least, so that an opaque picture with a few see-through corner
+    // pixels (rounded corners, an editor's artefact) still goes to foreground extraction.
+    size_t transparent = 0;
+    for (size_t k = 0; k < n; ++k) transparent += image.pixels[k * 4 + 3] < 0.5f;
+    if (transparent > 0 && transparent * 1000 >= n) {
         m.source = MaskSource::Alpha;
         for (size_t k = 0; k < n; ++k) m.mask[k] = image.pixels[k * 4 + 3] >= 0.5f ? 1 : 0;
         if (std::find(m.mask.begin(), m.mask.end(), 1) == m.mask.end())
