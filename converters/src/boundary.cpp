@@ -90,9 +90,13 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
                               const BoundaryFitOptions& fit) {
     BoundaryFitResult result;
     constexpr double kMinInterval = 0.5;  // parameter units (pixels of the map's rectangle)
+    long cap = fit.maxPatches;
     for (;;) {
         const GradientMesh m = grid.build(options);
         const int C = m.columns(), R = m.rows();
+        // Slits alone may need more patches than the budget (a row and two columns each): the
+        // outline then still gets half as many again.
+        if (result.rounds == 0) cap = std::max<long>(cap, 3L * C * R / 2);
         // Worst deviation per knot interval.
         std::vector<double> devU(static_cast<size_t>(C), 0.0), devV(static_cast<size_t>(R), 0.0);
         result.maxDeviation = 0;
@@ -125,7 +129,7 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
         bool any = false;
         for (const Split& s : splits) {
             const long patches = (C + nu + s.alongU) * (R + nv + !s.alongU);
-            if (patches > fit.maxPatches) continue;
+            if (patches > cap) continue;
             if (s.alongU) {
                 options.knotsU.push_back(0.5 * (m.u[s.interval] + m.u[s.interval + 1]));
                 ++nu;

@@ -133,7 +133,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         go.targetPatchSize = options.targetPatchSize;
         for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
         BoundaryFitOptions bf;
-        bf.maxPatches = std::max(1, options.maxPatches * 3 / 4);
+        bf.maxPatches = options.maxPatches;
         bf.tolerance = options.outlineTolerance;
         const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
         rr.outlineDeviation = fitted.maxDeviation;

@@ -12,8 +12,9 @@ namespace gm {
 
 struct BoundaryFitOptions {
     double tolerance = 0.5;   // pixels: Hausdorff distance to the outline
-    int maxPatches = 400;     // the grid never grows past this many patches
-    int maxRounds = 12;
+    int maxPatches = 400;     // the grid never grows past this many patches (or 1.5 times the
+                              // initial grid's, when its slits alone need more)
+    int maxRounds = 20;
 };
 
 struct BoundaryFitResult {
