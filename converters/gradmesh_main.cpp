@@ -145,10 +145,31 @@ void requireInputFile(const std::string& path) {
 }
 
 // Refuses an output that is the input (same file, whatever the spelling).
-void requireDistinct(const std::string& in, const std::string& out) {
+void requireDistinct(const std::string& in, const std::string& out, const char* role = "input") {
     std::error_code ec;
     if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(in, out, ec))
-        throw Error("output is the input file; refusing to overwrite it", out);
+        throw Error(std::string("output is the ") + role + " file; refusing to overwrite it", out);
+}
+
+// Errors are one line: libraries' messages (OpenImageIO's) may hold several, often repeated.
+std::string oneLine(const std::string& message) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    while (start <= message.size()) {
+        size_t end = message.find_first_of("\r\n", start);
+        if (end == std::string::npos) end = message.size();
+        std::string part = message.substr(start, end - start);
+        const size_t a = part.find_first_not_of(" \t"), b = part.find_last_not_of(" \t");
+        part = a == std::string::npos ? std::string() : part.substr(a, b - a + 1);
+        bool seen = part.empty();
+        for (const std::string& p : parts)
+            seen = seen || p.find(part) != std::string::npos;
+        if (!seen) parts.push_back(part);
+        start = end + 1;
+    }
+    std::string line;
+    for (const std::string& p : parts) line += (line.empty() ? "" : "; ") + p;
+    return line;
 }
 
 const gm::MeshFormat* readerFor(const std::string& path) {
@@ -213,8 +234,9 @@ int cmdConvert(const Args& a, bool renderOnly) {
         const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
         if (reader && reader->name() == "raster") {
             if (auto it = a.values.find("--mask"); it != a.values.end()) {
+                if (it->second.empty()) throw UsageError("--mask needs a file name");
                 requireInputFile(it->second);
-                requireDistinct(it->second, out);
+                requireDistinct(it->second, out, "mask");
             }
             try {
                 gm::convertImageCommand(in, out, *writer, wo, a.values);
@@ -359,17 +381,17 @@ int main(int argc, char** argv) {
         if (command == "compare") return cmdCompare(parseArgs(command, argc, argv, {"--mask"}, {}));
         if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(), e.what(),
-                     command.c_str());
+        std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),
+                     oneLine(e.what()).c_str(), command.c_str());
         return 2;
     } catch (const gm::Error& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), e.what());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "gradmesh %s: out of memory\n", command.c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), e.what());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
         return 1;
     }
     return 2;

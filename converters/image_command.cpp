@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "converters/convert_image.h"
@@ -26,8 +27,9 @@ const std::set<std::string> kImageValuedOptions = {
 
 const char* kImageConvertHelp =
     "  raster input (IN is .png .jpg .tif .exr ...): the object becomes gradient meshes\n"
-    "  --mask M.png            object mask (white = object); else the alpha channel when it is\n"
-    "                          not fully opaque; else foreground extraction (GrabCut)\n"
+    "  --mask M.png            object mask (white = object); else the alpha channel when it\n"
+    "                          makes 0.1% of the pixels or more transparent (alpha < 0.5);\n"
+    "                          else foreground extraction (GrabCut)\n"
     "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
     "  --max-patches N         patch budget per region (default 400)\n"
     "  --colors MODE           fit (default: least squares over the pixels) or sampled\n"
@@ -129,6 +131,50 @@ void requireWritableDir(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec))
         throw Error("the output's directory does not exist", path);
+    if (std::filesystem::is_directory(p, ec)) throw Error("is a directory, not a file", path);
+}
+
+// Whether two paths name the same file, whether or not it exists yet.
+bool samePath(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec))
+        return std::filesystem::equivalent(a, b, ec);
+    const auto na = std::filesystem::weakly_canonical(std::filesystem::absolute(a, ec), ec);
+    const auto nb = std::filesystem::weakly_canonical(std::filesystem::absolute(b, ec), ec);
+    return !ec && na == nb;
+}
+
+// libpng (through OpenImageIO) prints its errors and warnings on stderr besides returning them;
+// the message we throw already holds them, and errors are one line. Silences fd 2 while alive.
+class QuietStderr {
+public:
+    QuietStderr() {
+        std::fflush(stderr);
+        saved_ = ::dup(2);
+        const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+        if (null >= 0) ::close(null);
+    }
+    ~QuietStderr() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            ::dup2(saved_, 2);
+            ::close(saved_);
+        }
+    }
+    QuietStderr(const QuietStderr&) = delete;
+    QuietStderr& operator=(const QuietStderr&) = delete;
+
+private:
+    int saved_ = -1;
+};
+
+RgbaImage readQuietly(const std::string& path, uint64_t maxPixels) {
+    std::error_code ec;
+    if (std::filesystem::file_size(path, ec) == 0 && !ec)
+        throw Error("file is empty (0 bytes)", path);
+    QuietStderr quiet;
+    return readImage(path, maxPixels);
 }
 
 }  // namespace
@@ -159,28 +205,50 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         reportPath = it->second;
         if (reportPath.empty()) throw std::invalid_argument("--report needs a file name");
         requireWritableDir(reportPath);
-        std::error_code ec;
-        if (std::filesystem::exists(reportPath, ec) && std::filesystem::equivalent(in, reportPath, ec))
+        if (samePath(in, reportPath))
             throw Error("the report would overwrite the input", reportPath);
+        if (samePath(out, reportPath))
+            throw Error("the report would overwrite the output", reportPath);
     }
     std::string maskPath;
-    if (auto it = values.find("--mask"); it != values.end()) maskPath = it->second;
+    if (auto it = values.find("--mask"); it != values.end()) {
+        maskPath = it->second;
+        if (maskPath.empty()) throw std::invalid_argument("--mask needs a file name");
+        if (!reportPath.empty() && samePath(maskPath, reportPath))
+            throw Error("the report would overwrite the mask", reportPath);
+    }
     requireWritableDir(out);
 
     // Read: sizes are checked by readImage before any pixel is allocated.
     auto t0 = Clock::now();
-    const RgbaImage image = readImage(in, maxPixels);
+    const RgbaImage image = readQuietly(in, maxPixels);
     RgbaImage maskImage;
-    if (!maskPath.empty()) maskImage = readImage(maskPath, maxPixels);
+    if (!maskPath.empty()) maskImage = readQuietly(maskPath, maxPixels);
     const double readSeconds = since(t0);
 
+    // Some stages do not know the file: name it, the mask file for an error about the mask.
+    const auto nameFile = [&](const Error& e) {
+        const bool aboutMask = e.reason().find("mask") != std::string::npos;
+        return Error(e.reason(), aboutMask && !maskPath.empty() ? maskPath : in, e.where());
+    };
     t0 = Clock::now();
-    const ObjectMask mask =
-        objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+    ObjectMask mask;
+    try {
+        mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+    } catch (const Error& e) {
+        if (!e.file().empty()) throw;
+        throw nameFile(e);
+    }
     const double maskSeconds = since(t0);
 
     ConvertReport report;
-    const Document doc = convertImage(image, mask, co, in, &report);
+    Document doc;
+    try {
+        doc = convertImage(image, mask, co, in, &report);
+    } catch (const Error& e) {
+        if (!e.file().empty()) throw;
+        throw nameFile(e);
+    }
 
     t0 = Clock::now();
     writer.write(doc, out, writeOptions);
@@ -210,6 +278,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns
           << ", " << r.rows << "], \"patches\": " << r.patches
           << ", \"feature_solves\": " << r.featureSolves
+          << ", \"outline_deviation\": " << r.outlineDeviation
+          << ", \"outline_knots\": " << r.outlineKnots
           << ",\n     \"seconds\": " << secondsJson(r.seconds)
           << ",\n     \"error\": " << errorJson(r.error) << ",\n     \"refinement\": [";
         for (size_t j = 0; j < r.refinement.size(); ++j) {
@@ -223,7 +293,12 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         s << "]}";
     }
     s << "\n  ]\n}\n";
-    writeTextAtomically(s.str(), reportPath);
+    try {
+        writeTextAtomically(s.str(), reportPath);
+    } catch (...) {
+        std::filesystem::remove(out, ec);  // a failed command leaves no output behind
+        throw;
+    }
 }
 
 }  // namespace gm

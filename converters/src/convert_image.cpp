@@ -84,80 +84,91 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         RegionReport rr;
         rr.pixels = region.pixelCount;
         rr.holes = static_cast<int>(region.holes.size());
+        // Stage errors name the image and the region.
+        try {
+            t0 = Clock::now();
+            const RegionCorners corners = findCorners(region);
+            rr.seconds.corners = since(t0);
 
-        t0 = Clock::now();
-        const RegionCorners corners = findCorners(region);
-        rr.seconds.corners = since(t0);
+            t0 = Clock::now();
+            TriangulateOptions to;
+            to.sampleFraction = options.sampleFraction;
+            const TriMesh tri = triangulateRegion(image, region, corners, to);
+            rr.seconds.triangulate = since(t0);
+            rr.triangles = static_cast<int>(tri.triangles.size());
+            rr.vertices = static_cast<int>(tri.vertices.size());
 
-        t0 = Clock::now();
-        TriangulateOptions to;
-        to.sampleFraction = options.sampleFraction;
-        const TriMesh tri = triangulateRegion(image, region, corners, to);
-        rr.seconds.triangulate = since(t0);
-        rr.triangles = static_cast<int>(tri.triangles.size());
-        rr.vertices = static_cast<int>(tri.vertices.size());
-
-        t0 = Clock::now();
-        const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
-        // A convex-combination map squeezes a long thin part whose two flanks lie on one side of
-        // the rectangle exponentially (a leg or a tail between two corners): in double precision
-        // its triangles reach zero area, and no grid can follow it.
-        for (const auto& t : tri.triangles) {
-            const Vec2 a = topo.map.uv[t[0]], b = topo.map.uv[t[1]], c = topo.map.uv[t[2]];
-            if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 1e-12 * corners.px * corners.py) {
-                const Vec2 p = tri.vertices[t[0]];
-                throw Error("region " + std::to_string(rep.regions.size()) +
-                                ": the parameterisation squeezes a thin part near (" +
-                                std::to_string(static_cast<int>(p.x)) + ", " +
-                                std::to_string(static_cast<int>(p.y)) +
-                                ") to zero area (a long thin part with both flanks on one side of "
-                                "the mesh rectangle is not supported yet)",
-                            imageName);
+            t0 = Clock::now();
+            const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
+            // A convex-combination map squeezes a long thin part whose two flanks lie on one side of
+            // the rectangle exponentially (a leg or a tail between two corners): in double precision
+            // its triangles reach zero area, and no grid can follow it.
+            for (const auto& t : tri.triangles) {
+                const Vec2 a = topo.map.uv[t[0]], b = topo.map.uv[t[1]], c = topo.map.uv[t[2]];
+                if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 1e-12 * corners.px * corners.py) {
+                    const Vec2 p = tri.vertices[t[0]];
+                    throw Error("region " + std::to_string(rep.regions.size()) +
+                                    ": the parameterisation squeezes a thin part near (" +
+                                    std::to_string(static_cast<int>(p.x)) + ", " +
+                                    std::to_string(static_cast<int>(p.y)) +
+                                    ") to zero area (a long thin part with both flanks on one side of "
+                                    "the mesh rectangle is not supported yet)",
+                                imageName);
+                }
             }
-        }
-        rr.seconds.topology = since(t0);
+            rr.seconds.topology = since(t0);
 
-        t0 = Clock::now();
-        const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
-        rr.seconds.feature = since(t0);
-        rr.featureSolves = feature.solves;
-        rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
-        if (rr.flippedTriangles != 0)
-            throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
-                            " triangles",
+            t0 = Clock::now();
+            const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
+            rr.seconds.feature = since(t0);
+            rr.featureSolves = feature.solves;
+            rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
+            if (rr.flippedTriangles != 0)
+                throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
+                                " triangles",
+                            imageName);
+
+            t0 = Clock::now();
+            const GridBuilder grid(tri, feature.map);
+            GridOptions go;
+            go.targetPatchSize = options.targetPatchSize;
+            for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
+            BoundaryFitOptions bf;
+            bf.maxPatches = options.maxPatches;
+            bf.tolerance = options.outlineTolerance;
+            const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
+            rr.outlineDeviation = fitted.maxDeviation;
+            rr.outlineKnots = fitted.addedU + fitted.addedV;
+            RefineOptions rf;
+            rf.maxError = options.maxError;
+            rf.maxPatches = options.maxPatches;
+            rf.color.mode = options.colors;
+            RefineResult refined = refineMesh(grid, go, image, region, rf);
+            rr.seconds.mesh = since(t0);
+
+            rr.columns = refined.mesh.columns();
+            rr.rows = refined.mesh.rows();
+            rr.patches = refined.mesh.patchCount();
+            rr.error = refined.error;
+            rr.refinement = refined.steps;
+            rep.patches += rr.patches;
+            rep.seconds.corners += rr.seconds.corners;
+            rep.seconds.triangulate += rr.seconds.triangulate;
+            rep.seconds.topology += rr.seconds.topology;
+            rep.seconds.feature += rr.seconds.feature;
+            rep.seconds.mesh += rr.seconds.mesh;
+            rep.regions.push_back(std::move(rr));
+            doc.meshes.push_back(std::move(refined.mesh));
+        } catch (const Error& e) {
+            if (!e.file().empty()) throw;
+            const Vec2 at = region.outer.points.empty() ? Vec2{} : region.outer.points.front();
+            throw Error("region " + std::to_string(rep.regions.size()) + " (" +
+                            std::to_string(region.pixelCount) + " px, " +
+                            std::to_string(region.holes.size()) + " holes, outline from (" +
+                            std::to_string(static_cast<int>(at.x)) + ", " +
+                            std::to_string(static_cast<int>(at.y)) + ")): " + e.reason(),
                         imageName);
-
-        t0 = Clock::now();
-        const GridBuilder grid(tri, feature.map);
-        GridOptions go;
-        go.targetPatchSize = options.targetPatchSize;
-        for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
-        BoundaryFitOptions bf;
-        bf.maxPatches = options.maxPatches;
-        bf.tolerance = options.outlineTolerance;
-        const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
-        rr.outlineDeviation = fitted.maxDeviation;
-        rr.outlineKnots = fitted.addedU + fitted.addedV;
-        RefineOptions rf;
-        rf.maxError = options.maxError;
-        rf.maxPatches = options.maxPatches;
-        rf.color.mode = options.colors;
-        RefineResult refined = refineMesh(grid, go, image, region, rf);
-        rr.seconds.mesh = since(t0);
-
-        rr.columns = refined.mesh.columns();
-        rr.rows = refined.mesh.rows();
-        rr.patches = refined.mesh.patchCount();
-        rr.error = refined.error;
-        rr.refinement = refined.steps;
-        rep.patches += rr.patches;
-        rep.seconds.corners += rr.seconds.corners;
-        rep.seconds.triangulate += rr.seconds.triangulate;
-        rep.seconds.topology += rr.seconds.topology;
-        rep.seconds.feature += rr.seconds.feature;
-        rep.seconds.mesh += rr.seconds.mesh;
-        rep.regions.push_back(std::move(rr));
-        doc.meshes.push_back(std::move(refined.mesh));
+        }
     }
     // Measured over the regions' pixels: dropped specks and filled holes are not the object.
     ObjectMask measured = mask;

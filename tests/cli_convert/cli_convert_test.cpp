@@ -1,0 +1,558 @@
+// `gradmesh convert IMAGE -o OUT`: the raster-input path of the command. Every failure must exit
+// 1 (a problem with a file) or 2 (a usage error), print one line on stderr naming the file (or
+// option) and the problem, and leave neither an output nor a temporary file behind. Inputs are
+// generated here with the project's raster writer; corrupt files are made from written ones.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "formats/raster.h"
+#include "formats/registry.h"
+#include "meshcore/synthetic_meshes.h"
+#include "support/compare.h"
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+struct Run {
+    int code;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+void spit(const fs::path& p, const std::string& bytes) {
+    std::ofstream f(p, std::ios::binary | std::ios::trunc);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+fs::path tmpDir(const std::string& name) {
+    fs::path d = fs::path(GRADMESH_TMP) / ("cli_convert_" + name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+const char* const kStdout = "stdout.txt";
+const char* const kStderr = "stderr.txt";
+
+// Runs gradmesh under a time limit: a hang shows as 124, a crash as 128 + signal (or -1).
+Run gradmesh(const std::string& args, const fs::path& dir) {
+    const std::string o = (dir / kStdout).string(), e = (dir / kStderr).string();
+    Run r;
+    r.code = gmtest::runCommand("timeout -k 5 60 " + std::string(GRADMESH_EXE) + " " + args + " >" +
+                                gmtest::quote(o) + " 2>" + gmtest::quote(e) + " </dev/null");
+    r.out = slurp(o);
+    r.err = slurp(e);
+    return r;
+}
+
+size_t lines(const std::string& s) {
+    size_t n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+std::string q(const fs::path& p) { return gmtest::quote(p.string()); }
+
+// The directory's files, the captured stdout/stderr excepted.
+std::set<std::string> entries(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        const std::string n = e.path().filename().string();
+        if (n != kStdout && n != kStderr) names.insert(n);
+    }
+    return names;
+}
+
+// A failure: the exit code, exactly one line on stderr holding every word, nothing on stdout.
+void checkFailure(const Run& r, int code, const std::vector<std::string>& words) {
+    INFO("exit " << r.code << ", stderr: " << r.err);
+    CHECK(r.code == code);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.out.empty());
+    for (const std::string& w : words) CHECK_THAT(r.err, Contains(w));
+}
+
+void checkSuccess(const Run& r) {
+    INFO("exit " << r.code << ", stderr: " << r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+}
+
+// A smooth colour field: a linear ramp plus a gentle bump, no edges inside.
+void shade(float* p, int x, int y, int w, int h) {
+    const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
+    p[0] = 0.15f + 0.7f * u;
+    p[1] = 0.25f + 0.5f * v;
+    p[2] = 0.35f + 0.4f * (1.f - (u - 0.5f) * (u - 0.5f) - (v - 0.5f) * (v - 0.5f));
+}
+
+bool inEllipse(int x, int y, int w, int h) {
+    const double dx = (x + 0.5 - 0.5 * w) / (0.38 * w), dy = (y + 0.5 - 0.5 * h) / (0.36 * h);
+    return dx * dx + dy * dy <= 1.0;
+}
+
+// A shaded ellipse on a transparent background (one hole-free region).
+gm::RgbaImage blob(int w, int h) {
+    gm::RgbaImage img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float* p = img.at(x, y);
+            shade(p, x, y, w, h);
+            p[3] = inEllipse(x, y, w, h) ? 1.f : 0.f;
+        }
+    return img;
+}
+
+// The same colours everywhere, fully opaque (the object must then come from a mask).
+gm::RgbaImage opaqueRamp(int w, int h) {
+    gm::RgbaImage img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            shade(img.at(x, y), x, y, w, h);
+            img.at(x, y)[3] = 1.f;
+        }
+    return img;
+}
+
+// Opaque black with white where `inside` holds.
+template <class F>
+gm::RgbaImage maskImage(int w, int h, F inside) {
+    gm::RgbaImage img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float* p = img.at(x, y);
+            p[0] = p[1] = p[2] = inside(x, y) ? 1.f : 0.f;
+            p[3] = 1.f;
+        }
+    return img;
+}
+
+gm::RgbaImage ellipseMask(int w, int h) {
+    return maskImage(w, h, [&](int x, int y) { return inEllipse(x, y, w, h); });
+}
+
+// Incompressible pixels, so that a PNG of it is mostly IDAT and a cut lands in the pixel data.
+gm::RgbaImage noise(int w, int h) {
+    gm::RgbaImage img(w, h);
+    uint32_t s = 12345;
+    for (float& v : img.pixels) {
+        s = s * 1664525u + 1013904223u;
+        v = static_cast<float>(s >> 24) / 255.f;
+    }
+    for (size_t k = 3; k < img.pixels.size(); k += 4) img.pixels[k] = 1.f;
+    return img;
+}
+
+void writePng(const gm::RgbaImage& img, const fs::path& p) { gm::writeImage(img, p.string()); }
+
+// A number following "key": at or after `from` in a JSON text (NaN when the key is missing).
+double jsonNumber(const std::string& json, const std::string& key, size_t from = 0) {
+    const std::string k = "\"" + key + "\": ";
+    const size_t at = json.find(k, from);
+    if (at == std::string::npos) return std::nan("");
+    const char* s = json.c_str() + at + k.size();
+    char* end = nullptr;
+    const double v = std::strtod(s, &end);
+    return end == s ? std::nan("") : v;
+}
+
+// Braces and brackets balance outside strings, and the text is one object.
+bool balancedJson(const std::string& json) {
+    int depth = 0;
+    bool inString = false, escaped = false;
+    for (char c : json) {
+        if (inString) {
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                inString = false;
+            continue;
+        }
+        if (c == '"')
+            inString = true;
+        else if (c == '{' || c == '[')
+            ++depth;
+        else if (c == '}' || c == ']') {
+            if (--depth < 0) return false;
+        }
+    }
+    const size_t first = json.find_first_not_of(" \n\t");
+    const size_t last = json.find_last_not_of(" \n\t");
+    return depth == 0 && !inString && first != std::string::npos && json[first] == '{' &&
+           json[last] == '}';
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Working conversions
+
+TEST_CASE("convert --help describes the raster options", "[cli_convert]") {
+    const fs::path d = tmpDir("help");
+    const Run r = gradmesh("convert --help", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Contains("usage: gradmesh convert") && Contains("--mask") &&
+                          Contains("--max-error") && Contains("--max-pixels") &&
+                          Contains("--report") && Contains("--colors"));
+}
+
+TEST_CASE("a smooth object converts to .gmb, .svg, .eps, .pdf and .png", "[cli_convert]") {
+    const fs::path d = tmpDir("formats");
+    const gm::RgbaImage input = blob(120, 100);
+    writePng(input, d / "blob.png");
+    for (const char* name : {"out.gmb", "out.svg", "out.eps", "out.pdf", "out.png"}) {
+        INFO(name);
+        const std::string report =
+            std::string(name) == "out.gmb" ? " --report " + q(d / "r.json") : std::string();
+        const Run r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / name) + report, d);
+        checkSuccess(r);
+        REQUIRE(fs::exists(d / name));
+        CHECK(fs::file_size(d / name) > 100);
+    }
+    CHECK(entries(d) == std::set<std::string>{"blob.png", "out.gmb", "out.svg", "out.eps",
+                                              "out.pdf", "out.png", "r.json"});
+
+    const gm::MeshFormat* gmb = gm::FormatRegistry::builtin().forReading((d / "out.gmb").string());
+    REQUIRE(gmb);
+    const gm::Document doc = gmb->read((d / "out.gmb").string(), gm::ReadOptions{});
+    CHECK(doc.width == 120);
+    CHECK(doc.height == 100);
+    REQUIRE(doc.meshes.size() == 1);
+    CHECK(doc.meshes[0].holeCount() == 0);
+    CHECK(doc.meshes[0].patchCount() >= 1);
+    CHECK_THAT(slurp(d / "out.svg"), Contains("<svg"));
+    CHECK_THAT(slurp(d / "out.eps"), StartsWith("%!PS"));
+    CHECK_THAT(slurp(d / "out.pdf"), StartsWith("%PDF-"));
+
+    // The re-render covers the object with the input's colours.
+    const gm::RgbaImage render = gm::readImage((d / "out.png").string());
+    REQUIRE(render.width == 120);
+    REQUIRE(render.height == 100);
+    const gmtest::DiffStats diff = gmtest::compareInterior(input, render, 2);
+    CHECK(diff.count > 4000);
+    CHECK(diff.mean < 3.0);
+    CHECK(render.at(60, 50)[3] > 0.99f);
+    CHECK(render.at(1, 1)[3] < 0.01f);
+
+    // The --report of the .gmb conversion: JSON with timings, patches and the error.
+    REQUIRE(fs::exists(d / "r.json"));
+    const std::string json = slurp(d / "r.json");
+    INFO(json);
+    CHECK(balancedJson(json));
+    CHECK_THAT(json, Contains("\"seconds\": {") && Contains("\"patches\": ") &&
+                         Contains("\"error\": {") && Contains("\"mask_source\": \"alpha\"") &&
+                         Contains("\"colors\": \"fit\"") && Contains("blob.png"));
+    CHECK(jsonNumber(json, "width") == 120);
+    CHECK(jsonNumber(json, "height") == 100);
+    const double total = jsonNumber(json, "total", json.find("\"seconds\": {"));
+    CHECK(total >= 0.0);
+    CHECK(total < 60.0);
+    const double patches = jsonNumber(json, "patches");
+    CHECK(patches >= 1);
+    CHECK(patches <= 400);
+    const double E = jsonNumber(json, "E", json.find("\"error\": {"));
+    CHECK(E >= 0.0);
+    CHECK(E < 2.0);  // a smooth ramp is easy
+    const double uncovered = jsonNumber(json, "uncovered", json.find("\"error\": {"));
+    CHECK(uncovered >= 0.0);
+    CHECK(uncovered < 0.05);
+    CHECK(jsonNumber(json, "output", json.find("\"bytes\": {")) ==
+          static_cast<double>(fs::file_size(d / "out.gmb")));
+    CHECK(jsonNumber(json, "patches") == doc.meshes[0].patchCount());
+}
+
+TEST_CASE("options --max-patches, --colors and --max-error are honoured and reported",
+          "[cli_convert]") {
+    const fs::path d = tmpDir("options");
+    writePng(blob(120, 100), d / "blob.png");
+    // --max-error 0 asks for more patches than the budget allows (the defaults give 6 here).
+    const Run r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "small.gmb") +
+                               " --max-patches 4 --colors sampled --max-error 0 --report " +
+                               q(d / "small.json"),
+                           d);
+    checkSuccess(r);
+    const std::string small = slurp(d / "small.json");
+    INFO(small);
+    CHECK(balancedJson(small));
+    CHECK_THAT(small, Contains("\"colors\": \"sampled\""));
+    CHECK(jsonNumber(small, "max_patches") == 4);
+    CHECK(jsonNumber(small, "max_error") == 0);
+    CHECK(jsonNumber(small, "patches") >= 1);
+    CHECK(jsonNumber(small, "patches") <= 4);
+    CHECK(entries(d) == std::set<std::string>{"blob.png", "small.gmb", "small.json"});
+}
+
+TEST_CASE("a separate --mask selects the object of an opaque image", "[cli_convert]") {
+    const fs::path d = tmpDir("mask");
+    writePng(opaqueRamp(120, 100), d / "ramp.png");
+    writePng(ellipseMask(120, 100), d / "mask.png");
+    const Run r = gradmesh("convert " + q(d / "ramp.png") + " --mask " + q(d / "mask.png") +
+                               " -o " + q(d / "out.png") + " --report " + q(d / "r.json"),
+                           d);
+    checkSuccess(r);
+    const std::string json = slurp(d / "r.json");
+    INFO(json);
+    CHECK_THAT(json, Contains("\"mask_source\": \"mask\""));
+    CHECK(jsonNumber(json, "E", json.find("\"error\": {")) < 2.0);
+    const gm::RgbaImage render = gm::readImage((d / "out.png").string());
+    REQUIRE(render.width == 120);
+    CHECK(render.at(60, 50)[3] > 0.99f);  // the ellipse, not the whole opaque image
+    CHECK(render.at(2, 2)[3] < 0.01f);
+    CHECK(entries(d) == std::set<std::string>{"ramp.png", "mask.png", "out.png", "r.json"});
+}
+
+TEST_CASE("a region touching the image border converts", "[cli_convert]") {
+    const fs::path d = tmpDir("border");
+    // Opaque on the left 70 columns: touches the top, left and bottom borders.
+    gm::RgbaImage img = opaqueRamp(100, 80);
+    for (int y = 0; y < 80; ++y)
+        for (int x = 70; x < 100; ++x) img.at(x, y)[3] = 0.f;
+    writePng(img, d / "left.png");
+    const Run r = gradmesh("convert " + q(d / "left.png") + " -o " + q(d / "out.png"), d);
+    checkSuccess(r);
+    const gm::RgbaImage render = gm::readImage((d / "out.png").string());
+    REQUIRE(render.width == 100);
+    REQUIRE(render.height == 80);
+    CHECK(render.at(1, 40)[3] > 0.5f);
+    CHECK(render.at(35, 1)[3] > 0.5f);
+    CHECK(render.at(35, 78)[3] > 0.5f);
+    CHECK(render.at(90, 40)[3] < 0.01f);
+    CHECK(gmtest::compareInterior(img, render, 2).mean < 3.0);
+}
+
+TEST_CASE(
+    "an image over --max-pixels is refused before decoding, and a higher limit lets it through",
+    "[cli_convert]") {
+    const fs::path d = tmpDir("maxpixels");
+    writePng(blob(64, 64), d / "big.png");
+    Run r = gradmesh(
+        "convert " + q(d / "big.png") + " -o " + q(d / "out.gmb") + " --max-pixels 1000", d);
+    checkFailure(r, 1, {"big.png", "64x64", "--max-pixels"});
+    CHECK(entries(d) == std::set<std::string>{"big.png"});
+
+    // The pixel data is cut short: refusing it for its size shows no decoding was attempted.
+    writePng(noise(64, 64), d / "noise.png");
+    const std::string bytes = slurp(d / "noise.png");
+    spit(d / "cut.png", bytes.substr(0, bytes.size() / 2));
+    r = gradmesh("convert " + q(d / "cut.png") + " -o " + q(d / "out.gmb") + " --max-pixels 1000",
+                 d);
+    checkFailure(r, 1, {"cut.png", "--max-pixels"});
+    CHECK_THAT(r.err, !Contains("decode"));
+
+    CHECK(entries(d) == std::set<std::string>{"big.png", "noise.png", "cut.png"});
+
+    // Raising the limit lets the same input through.
+    r = gradmesh("convert " + q(d / "big.png") + " -o " + q(d / "out.gmb") + " --max-pixels 5000",
+                 d);
+    checkSuccess(r);
+    CHECK(fs::exists(d / "out.gmb"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Masks and objects that cannot be converted
+
+TEST_CASE("an empty mask is refused and named", "[cli_convert]") {
+    const fs::path d = tmpDir("emptymask");
+    writePng(opaqueRamp(120, 100), d / "ramp.png");
+    writePng(maskImage(120, 100, [](int, int) { return false; }), d / "black.png");
+    const Run r = gradmesh("convert " + q(d / "ramp.png") + " --mask " + q(d / "black.png") +
+                               " -o " + q(d / "out.gmb"),
+                           d);
+    checkFailure(r, 1, {"black.png", "empty"});
+    CHECK(entries(d) == std::set<std::string>{"ramp.png", "black.png"});
+}
+
+TEST_CASE("a mask of another size than the image is refused", "[cli_convert]") {
+    const fs::path d = tmpDir("masksize");
+    writePng(opaqueRamp(120, 100), d / "ramp.png");
+    writePng(ellipseMask(100, 120), d / "mask.png");
+    const Run r = gradmesh(
+        "convert " + q(d / "ramp.png") + " --mask " + q(d / "mask.png") + " -o " + q(d / "out.svg"),
+        d);
+    checkFailure(r, 1, {"mask.png", "100x120", "120x100"});
+    CHECK(entries(d) == std::set<std::string>{"ramp.png", "mask.png"});
+}
+
+TEST_CASE("a missing mask file is named", "[cli_convert]") {
+    const fs::path d = tmpDir("nomask");
+    writePng(opaqueRamp(40, 30), d / "ramp.png");
+    const Run r = gradmesh(
+        "convert " + q(d / "ramp.png") + " --mask " + q(d / "nope.png") + " -o " + q(d / "out.gmb"),
+        d);
+    checkFailure(r, 1, {"nope.png", "no such file"});
+    CHECK(entries(d) == std::set<std::string>{"ramp.png"});
+}
+
+TEST_CASE("a one-pixel object is refused with the image named", "[cli_convert]") {
+    const fs::path d = tmpDir("onepixel");
+    gm::RgbaImage img = blob(40, 30);
+    for (size_t k = 3; k < img.pixels.size(); k += 4) img.pixels[k] = 0.f;
+    img.at(20, 15)[3] = 1.f;
+    writePng(img, d / "dot.png");
+    Run r = gradmesh("convert " + q(d / "dot.png") + " -o " + q(d / "out.gmb"), d);
+    checkFailure(r, 1, {"dot.png", "pixels"});
+    // The same speck given as a mask: the mask is named.
+    writePng(opaqueRamp(40, 30), d / "ramp.png");
+    writePng(maskImage(40, 30, [](int x, int y) { return x == 0 && y == 0; }), d / "dotmask.png");
+    r = gradmesh("convert " + q(d / "ramp.png") + " --mask " + q(d / "dotmask.png") + " -o " +
+                     q(d / "out.pdf"),
+                 d);
+    checkFailure(r, 1, {"dotmask.png", "pixels"});
+    CHECK(entries(d) == std::set<std::string>{"dot.png", "ramp.png", "dotmask.png"});
+}
+
+TEST_CASE("an all-transparent image is refused", "[cli_convert]") {
+    const fs::path d = tmpDir("transparent");
+    gm::RgbaImage img = blob(40, 30);
+    for (size_t k = 3; k < img.pixels.size(); k += 4) img.pixels[k] = 0.f;
+    writePng(img, d / "clear.png");
+    const Run r = gradmesh("convert " + q(d / "clear.png") + " -o " + q(d / "out.png"), d);
+    checkFailure(r, 1, {"clear.png", "transparent"});
+    CHECK(entries(d) == std::set<std::string>{"clear.png"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files that are not (whole) images
+
+TEST_CASE("corrupt, truncated, non-image and empty .png inputs fail cleanly",
+          "[cli_convert][malformed]") {
+    const fs::path d = tmpDir("corrupt");
+    writePng(noise(64, 64), d / "good.png");
+    const std::string bytes = slurp(d / "good.png");
+    REQUIRE(bytes.size() > 4000);
+    spit(d / "half.png", bytes.substr(0, bytes.size() / 2));  // cut in the pixel data
+    std::string garbled = bytes;
+    for (size_t k = garbled.size() / 3; k < garbled.size() / 3 + 64; ++k) garbled[k] ^= 0x5a;
+    spit(d / "garbled.png", garbled);  // pixel data with a bad CRC and bad deflate data
+    spit(d / "text.png", "hello, I am not a picture\n");
+    spit(d / "empty.png", "");
+    const std::set<std::string> inputs = {"good.png", "half.png", "garbled.png", "text.png",
+                                          "empty.png"};
+    struct Case {
+        const char *name, *out;
+    };
+    for (const Case& c : {Case{"half.png", "out.gmb"}, Case{"garbled.png", "out.png"},
+                          Case{"text.png", "out.svg"}, Case{"empty.png", "out.eps"}}) {
+        INFO(c.name << " -> " << c.out);
+        const Run r = gradmesh("convert " + q(d / c.name) + " -o " + q(d / c.out), d);
+        checkFailure(r, 1, {c.name, std::string(c.name) == "empty.png" ? "empty" : "image"});
+        CHECK(entries(d) == inputs);
+    }
+    // A broken file given as the mask is named as such.
+    const Run r = gradmesh(
+        "convert " + q(d / "good.png") + " --mask " + q(d / "half.png") + " -o " + q(d / "out.gmb"),
+        d);
+    checkFailure(r, 1, {"half.png"});
+    CHECK(entries(d) == inputs);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Usage errors and paths
+
+TEST_CASE("bad option values are usage errors", "[cli_convert]") {
+    const fs::path d = tmpDir("badvalues");
+    writePng(blob(40, 30), d / "blob.png");
+    struct Case {
+        std::string args, option, value;
+    };
+    for (const Case& c : {Case{"--max-error -1", "--max-error", "-1"},
+                          Case{"--max-error banana", "--max-error", "banana"},
+                          Case{"--max-patches 0", "--max-patches", "0"},
+                          Case{"--colors bogus", "--colors", "bogus"},
+                          Case{"--mask ''", "--mask", "needs a file name"},
+                          Case{"--max-error", "--max-error", "needs a value"}}) {
+        INFO(c.args);
+        const Run r =
+            gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "out.gmb") + " " + c.args, d);
+        checkFailure(r, 2, {c.option, c.value, "--help"});
+        CHECK(entries(d) == std::set<std::string>{"blob.png"});
+    }
+}
+
+TEST_CASE("a mask that is the output path is refused and survives", "[cli_convert]") {
+    const fs::path d = tmpDir("maskisout");
+    writePng(opaqueRamp(60, 50), d / "ramp.png");
+    writePng(ellipseMask(60, 50), d / "mask.png");
+    const std::string before = slurp(d / "mask.png");
+    const Run r = gradmesh("convert " + q(d / "ramp.png") + " --mask " + q(d / "mask.png") +
+                               " -o " + q(d / "." / "mask.png"),
+                           d);
+    checkFailure(r, 1, {"mask.png", "is the mask"});
+    CHECK(slurp(d / "mask.png") == before);
+    CHECK(entries(d) == std::set<std::string>{"ramp.png", "mask.png"});
+}
+
+TEST_CASE("an output in a missing directory fails cleanly", "[cli_convert]") {
+    const fs::path d = tmpDir("nodir");
+    writePng(blob(40, 30), d / "blob.png");
+    Run r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "no" / "such" / "x.svg"), d);
+    checkFailure(r, 1, {"x.svg", "does not exist"});
+    // The report's directory too, checked before any work.
+    r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "x.gmb") + " --report " +
+                     q(d / "no" / "r.json"),
+                 d);
+    checkFailure(r, 1, {"r.json", "does not exist"});
+    CHECK(entries(d) == std::set<std::string>{"blob.png"});
+}
+
+TEST_CASE("an output that is the input is refused and the input survives", "[cli_convert]") {
+    const fs::path d = tmpDir("same");
+    writePng(blob(40, 30), d / "blob.png");
+    const std::string before = slurp(d / "blob.png");
+    const Run r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "." / "blob.png"), d);
+    checkFailure(r, 1, {"blob.png", "is the input"});
+    CHECK(slurp(d / "blob.png") == before);
+    CHECK(entries(d) == std::set<std::string>{"blob.png"});
+}
+
+TEST_CASE("a report that would overwrite an input or the output is refused", "[cli_convert]") {
+    const fs::path d = tmpDir("reportpath");
+    writePng(opaqueRamp(60, 50), d / "ramp.png");
+    writePng(ellipseMask(60, 50), d / "mask.png");
+    const std::string ramp = slurp(d / "ramp.png"), mask = slurp(d / "mask.png");
+    fs::create_directories(d / "adir");
+    const std::string base =
+        "convert " + q(d / "ramp.png") + " --mask " + q(d / "mask.png") + " -o " + q(d / "out.gmb");
+    for (const fs::path& report : {d / "mask.png", d / "out.gmb", d / "adir"}) {
+        INFO(report);
+        const Run r = gradmesh(base + " --report " + q(report), d);
+        checkFailure(r, 1, {report.filename().string()});
+        CHECK(slurp(d / "ramp.png") == ramp);
+        CHECK(slurp(d / "mask.png") == mask);
+        CHECK(entries(d) == std::set<std::string>{"ramp.png", "mask.png", "adir"});
+        CHECK(fs::is_empty(d / "adir"));
+    }
+}
+
+TEST_CASE("mesh inputs reject the image-only options", "[cli_convert]") {
+    const fs::path d = tmpDir("meshinput");
+    gm::FormatRegistry::builtin().forPath("s.gmb")->write(
+        gm::makeDemoDocument(), (d / "s.gmb").string(), gm::WriteOptions{});
+    writePng(ellipseMask(40, 30), d / "m.png");
+    for (const std::string& opt : {"--mask " + q(d / "m.png"), std::string("--max-error 2")}) {
+        INFO(opt);
+        const Run r =
+            gradmesh("convert " + q(d / "s.gmb") + " -o " + q(d / "y.svg") + " " + opt, d);
+        checkFailure(r, 2, {opt.substr(0, opt.find(' ')), "raster inputs only"});
+        CHECK(entries(d) == std::set<std::string>{"s.gmb", "m.png"});
+    }
+}
