@@ -89,7 +89,9 @@ double boundaryDeviation(const GridBuilder& grid, const GradientMesh& mesh) {
 BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
                               const BoundaryFitOptions& fit) {
     BoundaryFitResult result;
-    constexpr double kMinInterval = 0.5;  // parameter units (pixels of the map's rectangle)
+    // Intervals are split however small in parameter units (a map may crowd many pixels of
+    // outline into a tiny interval), down to where knots would merge.
+    const double minU = 1e-6 * grid.map().px, minV = 1e-6 * grid.map().py;
     long cap = fit.maxPatches;
     for (;;) {
         const GradientMesh m = grid.build(options);
@@ -115,10 +117,10 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
         };
         std::vector<Split> splits;
         for (int i = 0; i < C; ++i)
-            if (devU[i] > fit.tolerance && m.u[i + 1] - m.u[i] >= 2 * kMinInterval)
+            if (devU[i] > fit.tolerance && m.u[i + 1] - m.u[i] >= 2 * minU)
                 splits.push_back({devU[i], true, i});
         for (int j = 0; j < R; ++j)
-            if (devV[j] > fit.tolerance && m.v[j + 1] - m.v[j] >= 2 * kMinInterval)
+            if (devV[j] > fit.tolerance && m.v[j + 1] - m.v[j] >= 2 * minV)
                 splits.push_back({devV[j], false, j});
         std::stable_sort(splits.begin(), splits.end(),
                          [](const Split& a, const Split& b) { return a.dev > b.dev; });
