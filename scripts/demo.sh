@@ -8,18 +8,21 @@ bash scripts/build.sh
 mkdir -p out
 gm=build/converters/gradmesh
 set -x
-# Until raster conversion lands, the sample is built programmatically: two meshes, one with 3 holes.
-$gm sample out/sample.gmb
-$gm info out/sample.gmb
-$gm convert out/sample.gmb -o out/sample-compact.gmb --compact
-$gm convert out/sample.gmb -o out/sample.svg                      # exact colours, for Inkscape
-$gm convert out/sample.gmb -o out/sample-editable.svg --svg-colors editable
-$gm convert out/sample.gmb -o out/sample.eps
-$gm convert out/sample.gmb -o out/sample.pdf
-$gm convert out/sample.gmb -o out/sample-legacy.pdf --legacy       # holes as hole-free pieces
-$gm render out/sample.gmb -o out/sample.png --background white
-$gm render out/sample.gmb -o out/sample@4x.png --scale 4
-$gm render out/sample-compact.gmb -o out/sample-compact.png --background white
-$gm compare out/sample.png out/sample-compact.png
+# The main job: a photographed object with its mask -> gradient mesh, in every output format.
+$gm convert samples/apple.jpg --mask samples/apple_mask.png -o out/apple.gmb --report out/apple.json
+$gm info out/apple.gmb
+$gm convert out/apple.gmb -o out/apple-compact.gmb --compact
+$gm convert out/apple.gmb -o out/apple.svg                      # exact colours, for Inkscape
+$gm convert out/apple.gmb -o out/apple-editable.svg --svg-colors editable
+$gm convert out/apple.gmb -o out/apple.eps
+$gm convert out/apple.gmb -o out/apple.pdf
+$gm render out/apple.gmb -o out/apple.png --background white
+$gm compare samples/apple.jpg out/apple.png --mask samples/apple_mask.png
+# An object with holes: one mesh per region, one slit per hole; --legacy writes hole-free pieces.
+$gm convert samples/pic1.png -o out/pic1.gmb --report out/pic1.json
+$gm info out/pic1.gmb
+$gm convert out/pic1.gmb -o out/pic1.svg
+$gm convert out/pic1.gmb -o out/pic1-legacy.pdf --legacy
+$gm render out/pic1.gmb -o out/pic1.png --background white
 set +x
 ls -l out
