@@ -37,7 +37,8 @@ const char* kImageConvertHelp =
     "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
     "  --min-area N            drop object components under N pixels (default 64)\n"
     "  --min-hole N            fill holes under N pixels (default 16)\n"
-    "  --samples F             triangulation samples per region pixel (default 0.03)\n";
+    "  --samples F             triangulation samples per region pixel (default 0.03,\n"
+    "                          at most 40000 per region)\n";
 
 namespace {
 

@@ -92,7 +92,10 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
 
             t0 = Clock::now();
             TriangulateOptions to;
-            to.sampleFraction = options.sampleFraction;
+            // Large regions get at most maxSamples samples: the maps' solves grow with them,
+            // and a 4096² object needs no finer triangulation than a 1024² one.
+            to.sampleFraction = std::min(options.sampleFraction,
+                                         double(options.maxSamples) / std::max(1, region.pixelCount));
             const TriMesh tri = triangulateRegion(image, region, corners, to);
             rr.seconds.triangulate = since(t0);
             rr.triangles = static_cast<int>(tri.triangles.size());
@@ -131,7 +134,11 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
             t0 = Clock::now();
             const GridBuilder grid(tri, feature.map);
             GridOptions go;
-            go.targetPatchSize = options.targetPatchSize;
+            // The initial grid takes at most a quarter of the patch budget: the rest is for
+            // the outline and the colours.
+            go.targetPatchSize = std::max(
+                options.targetPatchSize,
+                std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
             for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
             BoundaryFitOptions bf;
             bf.maxPatches = options.maxPatches;

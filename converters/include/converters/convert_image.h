@@ -21,6 +21,7 @@ struct ConvertOptions {
     int minArea = 64;             // pixels: smaller components are dropped
     int minHole = 16;             // pixels: smaller holes are filled
     double sampleFraction = 0.03; // triangulation samples per region pixel
+    int maxSamples = 40000;       // ... and at most this many per region
     double targetPatchSize = 96;  // pixels: the initial grid's patch size
     double outerLevel = 0.35;     // RegionOptions::outerLevel
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
