@@ -306,7 +306,12 @@ RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int ca
     const int H = outputSide(canvasHeight, options.scale);
     RenderResult result;
     result.image = RgbaImage(W, H);
-    if (options.wantSamples) result.samples.assign(static_cast<size_t>(W) * H, PixelSample{});
+    if (options.wantSamples) {
+        const size_t n = static_cast<size_t>(W) * H;
+        result.samples.reserve(n);
+        adviseHugePages(result.samples.data(), n * sizeof(PixelSample));
+        result.samples.assign(n, PixelSample{});
+    }
     int threads = options.threads;
     if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     Target target{&result.image, options.wantSamples ? &result.samples : nullptr, threads};
