@@ -6,48 +6,19 @@
 #include <sstream>
 
 #include "formats/raster.h"
-#include "support/compare.h"
+#include "support/cli_run.h"
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 namespace {
-struct Run {
-    int code;
-    std::string out, err;
-};
+using gmtest::q;
+using gmtest::Run;
+using gmtest::slurp;
 
-std::string slurp(const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-fs::path tmpDir(const std::string& name) {
-    fs::path d = fs::path(GRADMESH_TMP) / ("cli_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-Run gradmesh(const std::string& args, const fs::path& dir) {
-    const std::string o = (dir / "stdout.txt").string(), e = (dir / "stderr.txt").string();
-    Run r;
-    r.code = gmtest::runCommand(std::string(GRADMESH_EXE) + " " + args + " >" + gmtest::quote(o) +
-                                " 2>" + gmtest::quote(e) + " </dev/null");
-    r.out = slurp(o);
-    r.err = slurp(e);
-    return r;
-}
-
-size_t lines(const std::string& s) {
-    size_t n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-std::string q(const fs::path& p) { return gmtest::quote(p.string()); }
+fs::path tmpDir(const std::string& name) { return gmtest::scratchDir("cli_", name); }
+Run gradmesh(const std::string& args, const fs::path& dir) { return gmtest::runGradmesh(args, dir); }
+size_t lines(const std::string& s) { return gmtest::lineCount(s); }
 }  // namespace
 
 TEST_CASE("no arguments and unknown commands are usage errors", "[cli]") {

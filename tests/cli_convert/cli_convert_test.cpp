@@ -16,7 +16,7 @@
 #include "formats/raster.h"
 #include "formats/registry.h"
 #include "meshcore/synthetic_meshes.h"
-#include "support/compare.h"
+#include "support/cli_run.h"
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
@@ -24,51 +24,22 @@ using Catch::Matchers::StartsWith;
 
 namespace {
 
-struct Run {
-    int code;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+using gmtest::q;
+using gmtest::Run;
+using gmtest::slurp;
 
 void spit(const fs::path& p, const std::string& bytes) {
     std::ofstream f(p, std::ios::binary | std::ios::trunc);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-fs::path tmpDir(const std::string& name) {
-    fs::path d = fs::path(GRADMESH_TMP) / ("cli_convert_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tmpDir(const std::string& name) { return gmtest::scratchDir("cli_convert_", name); }
 
 const char* const kStdout = "stdout.txt";
 const char* const kStderr = "stderr.txt";
 
-// Runs gradmesh under a time limit: a hang shows as 124, a crash as 128 + signal (or -1).
-Run gradmesh(const std::string& args, const fs::path& dir) {
-    const std::string o = (dir / kStdout).string(), e = (dir / kStderr).string();
-    Run r;
-    r.code = gmtest::runCommand("timeout -k 5 60 " + std::string(GRADMESH_EXE) + " " + args + " >" +
-                                gmtest::quote(o) + " 2>" + gmtest::quote(e) + " </dev/null");
-    r.out = slurp(o);
-    r.err = slurp(e);
-    return r;
-}
-
-size_t lines(const std::string& s) {
-    size_t n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-std::string q(const fs::path& p) { return gmtest::quote(p.string()); }
+Run gradmesh(const std::string& args, const fs::path& dir) { return gmtest::runGradmesh(args, dir); }
+size_t lines(const std::string& s) { return gmtest::lineCount(s); }
 
 // The directory's files, the captured stdout/stderr excepted.
 std::set<std::string> entries(const fs::path& dir) {
