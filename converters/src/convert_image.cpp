@@ -103,22 +103,6 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
 
             t0 = Clock::now();
             const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
-            // A convex-combination map squeezes a long thin part whose two flanks lie on one side of
-            // the rectangle exponentially (a leg or a tail between two corners): in double precision
-            // its triangles reach zero area, and no grid can follow it.
-            for (const auto& t : tri.triangles) {
-                const Vec2 a = topo.map.uv[t[0]], b = topo.map.uv[t[1]], c = topo.map.uv[t[2]];
-                if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= 1e-12 * corners.px * corners.py) {
-                    const Vec2 p = tri.vertices[t[0]];
-                    throw Error("region " + std::to_string(rep.regions.size()) +
-                                    ": the parameterisation squeezes a thin part near (" +
-                                    std::to_string(static_cast<int>(p.x)) + ", " +
-                                    std::to_string(static_cast<int>(p.y)) +
-                                    ") to zero area (a long thin part with both flanks on one side of "
-                                    "the mesh rectangle is not supported yet)",
-                                imageName);
-                }
-            }
             rr.seconds.topology = since(t0);
 
             t0 = Clock::now();

@@ -19,6 +19,24 @@ std::string at(Vec2 p) {
     return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
 }
 
+// A convex-combination map squeezes a long thin part whose two flanks lie on one side of the
+// rectangle exponentially (a leg or a tail between two corners): in double precision its
+// triangles reach zero area, which the flip count does not see and no grid can follow.
+void requireNoSqueezedTriangle(const TriMesh& mesh, const ParamMap& map) {
+    const double tiny = 1e-12 * map.px * map.py;
+    for (const auto& t : mesh.triangles) {
+        const Vec2 a = map.uv[t[0]], b = map.uv[t[1]], c = map.uv[t[2]];
+        if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= tiny) {
+            const Vec2 p = mesh.vertices[t[0]];
+            throw Error("the parameterisation squeezes a thin part near (" +
+                        std::to_string(static_cast<int>(p.x)) + ", " +
+                        std::to_string(static_cast<int>(p.y)) +
+                        ") to zero area (a long thin part with both flanks on one side of the "
+                        "mesh rectangle is not supported yet)");
+        }
+    }
+}
+
 void checkMesh(const TriMesh& mesh, double px, double py) {
     if (!(px > 0) || !(py > 0) || !std::isfinite(px) || !std::isfinite(py))
         throw Error("topology map: rectangle " + std::to_string(px) + " x " + std::to_string(py) +
@@ -525,6 +543,7 @@ TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
                     " triangles): holes lie too close to each other or to the outline; "
                     "--min-hole N fills holes under N pixels");
     }
+    requireNoSqueezedTriangle(mesh, result.map);
     for (SlitInfo& s : slits) {
         s.v = result.map.uv[s.upperArc.front()].y;
         s.u0 = result.map.uv[s.upperArc.front()].x;
@@ -573,6 +592,7 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py) {
     if (const int flips = countFlippedTriangles(mesh, result.map); flips > 0)
         throw Error("topology map: the mean-value map folds " + std::to_string(flips) +
                     " triangle(s); is the triangulation's orientation positive?");
+    requireNoSqueezedTriangle(mesh, result.map);
     return result;
 }
 

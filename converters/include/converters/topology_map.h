@@ -39,7 +39,8 @@ struct TopologyMap {
 // in the image, interior vertices by Floater's mean-value weights (a convex boundary and positive
 // weights make it a bijection). With holes: buildSlitMap. Throws gm::Error on a malformed mesh
 // (indices, loops, corners), on px or py not positive, on an edge that no straight-edged map can
-// keep unfolded (see dividingEdges), or when the slit map cannot be unfolded.
+// keep unfolded (see dividingEdges), when the slit map cannot be unfolded, or when the map
+// squeezes a triangle to zero area (a long thin part between two corners).
 TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py);
 
 // The slit map with two sparse solves whatever the number of holes (DESIGN.md §3 step 4), with
