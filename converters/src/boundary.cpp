@@ -73,18 +73,10 @@ double edgeDeviation(const GridBuilder& grid, const GradientMesh& m, const Bound
     std::vector<Vec2> curve(static_cast<size_t>(n) + 1), outline(static_cast<size_t>(4 * n) + 1);
     for (int k = 0; k <= n; ++k) curve[static_cast<size_t>(k)] = curveAt(double(k) / n);
     for (int k = 0; k <= 4 * n; ++k) outline[static_cast<size_t>(k)] = outlineAt(double(k) / (4 * n));
-    const double dev = std::max(directedDistance(curve, outline), directedDistance(outline, curve));
-    return dev;
+    return std::max(directedDistance(curve, outline), directedDistance(outline, curve));
 }
 
 }  // namespace
-
-double boundaryDeviation(const GridBuilder& grid, const GradientMesh& mesh) {
-    double worst = 0;
-    for (const BoundaryEdge& e : boundaryEdges(mesh))
-        worst = std::max(worst, edgeDeviation(grid, mesh, e));
-    return worst;
-}
 
 BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
                               const BoundaryFitOptions& fit) {

@@ -23,10 +23,6 @@ struct BoundaryFitResult {
     double maxDeviation = 0;     // pixels, of the last grid (> tolerance only when capped)
 };
 
-// Largest distance, across the outline, between the mesh's boundary curves and the outline as
-// `grid` maps it; sampled along every boundary edge.
-double boundaryDeviation(const GridBuilder& grid, const GradientMesh& mesh);
-
 // Halves boundary knot intervals until grid.build(options) meets the tolerance (or the patch
 // cap or round limit is reached). When it adds knots, options.knotsU / knotsV are set to the
 // complete knot vectors.
