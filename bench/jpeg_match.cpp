@@ -30,6 +30,7 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include "converters/convert_image.h"
 #include "converters/foreground.h"
 #include "converters/regions.h"
 #include "formats/raster.h"
@@ -78,23 +79,10 @@ Measure encode(const Subject& s, int quality, const std::string& subsampling) {
     std::filesystem::remove(path);
     if (back.width != img.width || back.height != img.height)
         throw std::runtime_error("decoded JPEG has another size");
-    double sum = 0, sq = 0;
-    long n = 0;
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) {
-            if (!s.mask[static_cast<size_t>(y) * img.width + x]) continue;
-            ++n;
-            const float* a = img.at(x, y);
-            const float* b = back.at(x, y);
-            for (int c = 0; c < 3; ++c) {
-                const double d = std::fabs(double(a[c]) - b[c]) * 255.0;
-                sum += d;
-                sq += d * d;
-            }
-        }
-    m.E = n ? sum / (3.0 * n) : 0;
-    m.rmse = n ? std::sqrt(sq / (3.0 * n)) : 0;
-    m.psnr = m.rmse > 0 ? 20 * std::log10(255.0 / m.rmse) : INFINITY;
+    const FitError e = compareOverMask(img, back, s.mask);  // a JPEG is opaque: all covered
+    m.E = e.meanAbs;
+    m.rmse = e.rmse;
+    m.psnr = e.psnr;
     return m;
 }
 

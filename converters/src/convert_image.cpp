@@ -24,17 +24,21 @@ double since(Clock::time_point t0) {
 
 // E, RMSE, PSNR, max and uncovered fraction of a rendered document over the mask's pixels.
 FitError measure(const Document& doc, const RgbaImage& image, const ObjectMask& mask) {
-    RenderOptions ro;
-    const RgbaImage r = renderDocument(doc, ro).image;
+    return compareOverMask(image, renderDocument(doc, RenderOptions{}).image, mask.mask);
+}
+}  // namespace
+
+FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
+                         const std::vector<uint8_t>& mask) {
     FitError e;
     double sum = 0, sq = 0;
     long uncovered = 0, n = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            if (!mask.mask[static_cast<size_t>(y) * image.width + x]) continue;
+    for (int y = 0; y < reference.height; ++y)
+        for (int x = 0; x < reference.width; ++x) {
+            if (!mask[static_cast<size_t>(y) * reference.width + x]) continue;
             ++n;
-            const float* a = image.at(x, y);
-            const float* b = r.at(x, y);
+            const float* a = reference.at(x, y);
+            const float* b = test.at(x, y);
             if (b[3] < 0.5f) {
                 ++uncovered;
                 continue;
@@ -54,7 +58,6 @@ FitError measure(const Document& doc, const RgbaImage& image, const ObjectMask& 
     e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
     return e;
 }
-}  // namespace
 
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report) {

@@ -56,6 +56,12 @@ struct ConvertReport {
     int patches = 0;
 };
 
+// The report's figures of `test` against `reference` over the pixels where mask (width*height,
+// row-major) is non-zero: pixels whose test alpha is under 0.5 count as uncovered and are left
+// out of E, RMSE, PSNR and max. Both images must have the mask's size.
+FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
+                         const std::vector<uint8_t>& mask);
+
 // Converts every region of `mask` (1 = object). Throws gm::Error naming `imageName` for a region
 // it cannot convert (regions with holes until the slit map lands in the pipeline).
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
