@@ -276,6 +276,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         const RegionReport& r = report.regions[k];
         s << (k ? "," : "") << "\n    {\"pixels\": " << r.pixels << ", \"holes\": " << r.holes
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
+          << ", \"map_refined_vertices\": " << r.mapRefinedVertices
           << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns
           << ", " << r.rows << "], \"patches\": " << r.patches
           << ", \"feature_solves\": " << r.featureSolves

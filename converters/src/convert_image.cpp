@@ -99,14 +99,15 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
             // and a 4096² object needs no finer triangulation than a 1024² one.
             to.sampleFraction = std::min(options.sampleFraction,
                                          double(options.maxSamples) / std::max(1, region.pixelCount));
-            const TriMesh tri = triangulateRegion(image, region, corners, to);
+            TriMesh tri = triangulateRegion(image, region, corners, to);
             rr.seconds.triangulate = since(t0);
-            rr.triangles = static_cast<int>(tri.triangles.size());
-            rr.vertices = static_cast<int>(tri.vertices.size());
 
             t0 = Clock::now();
-            const TopologyMap topo = buildTopologyMap(tri, corners.px, corners.py);
+            const TopologyMap topo = buildTopologyMapRefining(tri, corners.px, corners.py);
             rr.seconds.topology = since(t0);
+            rr.triangles = static_cast<int>(tri.triangles.size());
+            rr.vertices = static_cast<int>(tri.vertices.size());
+            rr.mapRefinedVertices = topo.stats.refinedVertices;
 
             t0 = Clock::now();
             const FeatureMap feature = buildFeatureMap(tri, topo.map, image);

@@ -478,7 +478,7 @@ std::vector<std::array<int, 2>> dividingEdges(const TriMesh& mesh) {
     return out;
 }
 
-TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
+TopologyMap buildSlitMapOrFolds(const TriMesh& mesh, double px, double py) {
     checkMesh(mesh, px, py);
     if (const auto bad = dividingEdges(mesh); !bad.empty())
         throw Error("topology map: " + std::to_string(bad.size()) +
@@ -534,22 +534,57 @@ TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
         }
     }
     result.map = ParamMap{px, py, std::move(b.uv)};
-    if (const int flips = countFlippedTriangles(mesh, result.map); flips > 0) {
-        const auto first = detail::flippedTriangles(mesh, result.map.uv);
-        throw Error("the slit map of " + std::to_string(mesh.holeLoops.size()) +
-                    " hole(s) cannot be unfolded near " +
-                    at(mesh.vertices[mesh.triangles[first[0]][0]]) + " (" +
-                    std::to_string(flips) +
-                    " triangles): holes lie too close to each other or to the outline; "
-                    "--min-hole N fills holes under N pixels");
-    }
-    requireNoSqueezedTriangle(mesh, result.map);
+    result.folded = detail::flippedTriangles(mesh, result.map.uv);
     for (SlitInfo& s : slits) {
         s.v = result.map.uv[s.upperArc.front()].y;
         s.u0 = result.map.uv[s.upperArc.front()].x;
         s.u1 = result.map.uv[s.upperArc.back()].x;
     }
     result.slits = std::move(slits);
+    return result;
+}
+
+TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
+    TopologyMap result = buildSlitMapOrFolds(mesh, px, py);
+    if (!result.folded.empty())
+        throw Error("the slit map of " + std::to_string(mesh.holeLoops.size()) +
+                    " hole(s) cannot be unfolded near " +
+                    at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
+                    std::to_string(result.folded.size()) +
+                    " triangles): holes lie too close to each other or to the outline; "
+                    "--min-hole N fills holes under N pixels");
+    requireNoSqueezedTriangle(mesh, result.map);
+    return result;
+}
+
+TopologyMap buildTopologyMapRefining(TriMesh& mesh, double px, double py, int maxRounds) {
+    if (mesh.holeLoops.empty()) return buildTopologyMap(mesh, px, py);
+    TopologyMap result = buildSlitMapOrFolds(mesh, px, py);
+    for (int round = 0; round < maxRounds && !result.folded.empty(); ++round) {
+        // The folds and the triangles sharing a vertex with them, split in image space.
+        std::vector<char> near(mesh.vertices.size(), 0);
+        for (int t : result.folded)
+            for (int k : mesh.triangles[t]) near[k] = 1;
+        std::vector<int> chosen;
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const auto& tr = mesh.triangles[t];
+            if (near[tr[0]] || near[tr[1]] || near[tr[2]]) chosen.push_back(static_cast<int>(t));
+        }
+        const TopologyMapStats previous = result.stats;
+        const int added = refineTriangles(mesh, chosen);
+        result = buildSlitMapOrFolds(mesh, px, py);
+        result.stats.refineRounds = previous.refineRounds + 1;
+        result.stats.refinedVertices = previous.refinedVertices + added;
+    }
+    if (!result.folded.empty())
+        throw Error("the slit map of " + std::to_string(mesh.holeLoops.size()) +
+                    " hole(s) cannot be unfolded near " +
+                    at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
+                    std::to_string(result.folded.size()) + " triangles after " +
+                    std::to_string(result.stats.refineRounds) +
+                    " rounds of refinement): holes lie too close to each other or to the "
+                    "outline; --min-hole N fills holes under N pixels");
+    requireNoSqueezedTriangle(mesh, result.map);
     return result;
 }
 

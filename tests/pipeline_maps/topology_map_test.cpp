@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <map>
 #include <set>
 
 #include "converters/topology_map.h"
@@ -246,5 +247,95 @@ TEST_CASE("topology map timings", "[.][timing][topology_map]") {
         WARN("slit map (annulus), " << a.vertices.size() << " vertices: " << msSlit
                                     << " ms; flips before repair " << sm.stats.flipsBeforeRepair
                                     << ", clamped " << sm.stats.clampedWeights);
+    }
+}
+
+namespace {
+// Every edge in one or two triangles, loop edges in exactly one; every triangle positive.
+void requireConforming(const TriMesh& mesh) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& t : mesh.triangles) {
+        const Vec2 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+        REQUIRE((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) > 0);
+        for (int k = 0; k < 3; ++k) REQUIRE(++directed[{t[k], t[(k + 1) % 3]}] == 1);
+    }
+    int unpaired = 0;
+    for (const auto& [e, n] : directed) unpaired += directed.count({e.second, e.first}) ? 0 : 1;
+    auto loopEdges = [&](const std::vector<int>& loop) {
+        for (size_t k = 0; k < loop.size(); ++k) {
+            const int a = loop[k], b = loop[(k + 1) % loop.size()];
+            REQUIRE((directed.count({a, b}) + directed.count({b, a})) == 1);
+        }
+        return static_cast<int>(loop.size());
+    };
+    int boundary = loopEdges(mesh.outerLoop);
+    for (const auto& h : mesh.holeLoops) boundary += loopEdges(h);
+    REQUIRE(unpaired == boundary);  // no hanging vertex: only loop edges lack a twin
+}
+
+double totalArea(const TriMesh& mesh) {
+    double s = 0;
+    for (const auto& t : mesh.triangles) {
+        const Vec2 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+        s += 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    }
+    return s;
+}
+}  // namespace
+
+TEST_CASE("red-green refinement stays conforming and keeps loops, corners and area", "[topology_map][refine]") {
+    TriMesh mesh = holedDisk({{100, 100}, 80}, {{{110, 90}, 20}}, 8);
+    requireConforming(mesh);
+    const double area = totalArea(mesh);
+    std::array<int, 4> cornerVertex{};
+    for (int k = 0; k < 4; ++k) cornerVertex[k] = mesh.outerLoop[mesh.corner[k]];
+    const size_t outer = mesh.outerLoop.size(), hole = mesh.holeLoops[0].size();
+    // Every triangle touching a loop, and one in the middle: closure spreads from them.
+    std::vector<int> chosen;
+    std::vector<char> onLoop(mesh.vertices.size(), 0);
+    for (int i : mesh.outerLoop) onLoop[i] = 1;
+    for (int i : mesh.holeLoops[0]) onLoop[i] = 1;
+    for (size_t t = 0; t < mesh.triangles.size(); t += 3)
+        chosen.push_back(static_cast<int>(t));
+    const size_t before = mesh.vertices.size();
+    const int added = refineTriangles(mesh, chosen);
+    CHECK(added > 0);
+    CHECK(mesh.vertices.size() == before + static_cast<size_t>(added));
+    requireConforming(mesh);
+    CHECK(totalArea(mesh) == Approx(area).epsilon(1e-12));
+    CHECK(mesh.outerLoop.size() > outer);
+    CHECK(mesh.holeLoops[0].size() > hole);
+    for (int k = 0; k < 4; ++k) CHECK(mesh.outerLoop[mesh.corner[k]] == cornerVertex[k]);
+    // Refining nothing changes nothing.
+    const TriMesh copy = mesh;
+    CHECK(refineTriangles(mesh, {}) == 0);
+    CHECK(mesh.triangles == copy.triangles);
+}
+
+TEST_CASE("folds between a hole and a close outline go away with refinement", "[topology_map][refine]") {
+    // Holes r 15 within 0.7-1.5 px of the outline, coarsely triangulated: one layer of
+    // triangles between them, and the plain slit map folds (measured: one triangle each).
+    struct Case { double angle, gap, spacing; };
+    const std::vector<Case> cases = {{180, 1.5, 6}, {45, 0.7, 6}, {105, 1.5, 9}, {225, 0.7, 9}, {300, 1.5, 6}};
+    for (const Case& c : cases) {
+        const double a = c.angle * 3.14159265358979323846 / 180, r = 80 - 15 - c.gap;
+        const TriMesh mesh = holedDisk({{100, 100}, 80},
+                                       {{{100 + r * std::cos(a), 100 + r * std::sin(a)}, 15}}, c.spacing);
+        INFO("hole at " << c.angle << " degrees, " << c.gap << " px from the outline, spacing "
+                        << c.spacing);
+        const TopologyMap plain = buildSlitMapOrFolds(mesh, 160, 160);
+        REQUIRE(!plain.folded.empty());  // the case this test is about
+        CHECK_THROWS_AS(buildTopologyMap(mesh, 160, 160), Error);
+        TriMesh refined = mesh;
+        const TopologyMap tm = buildTopologyMapRefining(refined, 160, 160, 3);
+        INFO("refinement: " << tm.stats.refineRounds << " rounds, " << tm.stats.refinedVertices
+                            << " vertices");
+        REQUIRE(countFlippedTriangles(refined, tm.map) == 0);
+        requireOnRectangle(refined, tm.map);
+        REQUIRE(tm.slits.size() == 1);
+        requireSlitConsistent(refined, tm.map, tm.slits[0], refined.holeLoops[0]);
+        CHECK(tm.stats.refineRounds >= 1);
+        CHECK(tm.stats.refinedVertices ==
+              static_cast<int>(refined.vertices.size() - mesh.vertices.size()));
     }
 }

@@ -38,6 +38,7 @@ struct StageSeconds {
 struct RegionReport {
     int pixels = 0, holes = 0;
     int triangles = 0, vertices = 0, flippedTriangles = 0;
+    int mapRefinedVertices = 0;  // added by refinement where the slit map folded
     int columns = 0, rows = 0, patches = 0;
     StageSeconds seconds;
     FitError error;

@@ -27,12 +27,15 @@ struct TopologyMapStats {
     int flipsBeforeRepair = 0;  // slit map: folded triangles of the plain two-solve map
     bool repaired = false;      // slit map: arcs made monotone and u (and v) solved again
     int untangledVertices = 0;  // slit map: interior vertices moved by local untangling
+    int refineRounds = 0;       // buildTopologyMapRefining: rounds of refinement around folds
+    int refinedVertices = 0;    // and the vertices they added
 };
 
 struct TopologyMap {
     ParamMap map;                // never folded: countFlippedTriangles(mesh, map) == 0
     std::vector<SlitInfo> slits;  // one per TriMesh::holeLoops entry, same order
     TopologyMapStats stats;
+    std::vector<int> folded;     // buildSlitMapOrFolds only: triangles the map still folds
 };
 
 // The stage entry point. Without holes: the outer loop onto the rectangle's sides by arc length
@@ -42,6 +45,12 @@ struct TopologyMap {
 // keep unfolded (see dividingEdges), when the slit map cannot be unfolded, or when the map
 // squeezes a triangle to zero area (a long thin part between two corners).
 TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py);
+
+// buildTopologyMap, except that where the slit map still folds, the triangles around the folds
+// (sharing a vertex with one) are refined in image space (refineTriangles) and the map is built
+// again, up to maxRounds times: folds come from too few triangles between a hole and its
+// neighbours. `mesh` is modified. Throws like buildTopologyMap when folds remain.
+TopologyMap buildTopologyMapRefining(TriMesh& mesh, double px, double py, int maxRounds = 2);
 
 // The slit map with two sparse solves whatever the number of holes (DESIGN.md §3 step 4), with
 // cotangent weights of the image-space triangulation:
@@ -54,6 +63,10 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py);
 // with those values fixed; folds left after that are untangled by moving the interior vertices
 // around them. Throws gm::Error if folds remain. Also valid without holes.
 TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py);
+
+// buildSlitMap's map even when folds remain: they are listed in `folded` instead of thrown
+// (the caller may refine the triangulation there and try again). No zero-area check.
+TopologyMap buildSlitMapOrFolds(const TriMesh& mesh, double px, double py);
 
 // Edges that are not loop edges but join two vertices of one rectangle side (a corner belongs to
 // both its sides) or of one hole loop. Such an edge maps into the side's line or the hole's slit,

@@ -37,3 +37,13 @@ struct ParamMap {
 int countFlippedTriangles(const TriMesh& mesh, const ParamMap& map);
 
 }  // namespace gm
+
+namespace gm {
+
+// Red–green refinement in image space: every listed triangle is split into four at its edge
+// midpoints; neighbours with two or three split edges are split into four too, those with one
+// are bisected, so the result is conforming. Midpoints of loop edges join their loop (corner
+// positions follow). Orientation is kept. Returns the number of vertices added.
+int refineTriangles(TriMesh& mesh, const std::vector<int>& triangles);
+
+}  // namespace gm
