@@ -1,0 +1,631 @@
+#include "converters/segment.h"
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc/segmentation.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+#include <utility>
+
+#include "meshcore/error.h"
+
+namespace gm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// 8-bit BGR (OpenCV's order), colour premultiplied by alpha.
+cv::Mat toBgr8(const RgbaImage& image) {
+    cv::Mat bgr(image.height, image.width, CV_8UC3);
+    for (int y = 0; y < image.height; ++y) {
+        auto* row = bgr.ptr<cv::Vec3b>(y);
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = image.at(x, y);
+            const float a = std::clamp(p[3], 0.f, 1.f);
+            for (int c = 0; c < 3; ++c)
+                row[x][2 - c] =
+                    static_cast<uint8_t>(std::lround(std::clamp(p[c], 0.f, 1.f) * a * 255));
+        }
+    }
+    return bgr;
+}
+
+float colourDist2(const cv::Vec3b& c, const double* mean) {
+    const double d0 = c[0] - mean[0], d1 = c[1] - mean[1], d2 = c[2] - mean[2];
+    return static_cast<float>(d0 * d0 + d1 * d1 + d2 * d2);
+}
+
+struct MergeResult {
+    int count = 0, components = 0;
+    long merged = 0, weakMerged = 0;
+};
+struct MergeParams {
+    long minRegion = 1;
+    int sliverWidth = 0;
+    double weakEdge = 0;
+};
+MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp);
+
+// ---------------------------------------------------------------------------------------
+// (1) Felzenszwalb–Huttenlocher on the working image, cleaned of slivers and of pieces under
+// the minimum size there already (FH's own minimum-size pass works on 8-connected pieces).
+
+struct FhRun {
+    std::vector<int> labels;  // working image, dense
+    int count = 0, rawCount = 0;
+};
+
+FhRun runFh(const cv::Mat& work, double k, const SegmentOptions& o, int minSize) {
+    FhRun run;
+    cv::Mat fh;
+    auto gs = cv::ximgproc::segmentation::createGraphSegmentation(o.sigma, static_cast<float>(k),
+                                                                   minSize);
+    gs->processImage(work, fh);
+    double maxLabel = 0;
+    cv::minMaxLoc(fh, nullptr, &maxLabel);
+    run.rawCount = static_cast<int>(maxLabel) + 1;
+    run.labels.assign(fh.begin<int>(), fh.end<int>());
+    run.count = mergeRegions(work, run.labels, {minSize, o.sliverWidth, o.weakEdge}).count;
+    return run;
+}
+
+// Uses the given k, the default k, or, for `segments`, searches k by bisection in log k
+// towards that many regions (the count falls with k, though not strictly; the run closest to
+// the target in ratio is kept, the larger k on ties).
+FhRun graphSegment(const cv::Mat& work, const SegmentOptions& o, int minSize, SegmentStats& st) {
+    if (work.total() < 4) {  // nothing to segment; OpenCV's FH wants edges
+        FhRun run;
+        run.labels.assign(work.total(), 0);
+        run.count = run.rawCount = 1;
+        return run;
+    }
+    const double kScale = static_cast<double>(work.total()) / (1 << 16);
+    if (o.threshold > 0 || o.segments <= 0) {
+        st.threshold = o.threshold > 0 ? o.threshold : o.defaultThreshold * kScale;
+        st.fhTrials = 1;
+        return runFh(work, st.threshold, o, minSize);
+    }
+    const int target = o.segments;
+    double lo = 20 * kScale, hi = 5000 * kScale;
+    double bestScore = std::numeric_limits<double>::infinity();
+    FhRun best;
+    for (int t = 0; t < std::max(1, o.maxTrials); ++t) {
+        const double k = std::sqrt(lo * hi);
+        FhRun run = runFh(work, k, o, minSize);
+        ++st.fhTrials;
+        const int n = run.count;
+        const double score = std::abs(std::log(static_cast<double>(n) / target));
+        if (score < bestScore || (score == bestScore && k > st.threshold)) {
+            bestScore = score;
+            st.threshold = k;
+            best = std::move(run);
+        }
+        if (std::abs(n - target) <= target / 10) break;
+        (n > target ? lo : hi) = k;
+    }
+    return best;
+}
+
+// Nearest-neighbour upscaling of the working labels to the full image.
+std::vector<int> upscaleLabels(const std::vector<int>& small, int ws, int hs, int W, int H) {
+    std::vector<int> labels(static_cast<size_t>(W) * H);
+    std::vector<int> sx(W);
+    for (int x = 0; x < W; ++x)
+        sx[x] = std::min(ws - 1, static_cast<int>((x + 0.5) * ws / W));
+    for (int y = 0; y < H; ++y) {
+        const int syy = std::min(hs - 1, static_cast<int>((y + 0.5) * hs / H));
+        const int* row = &small[static_cast<size_t>(syy) * ws];
+        for (int x = 0; x < W; ++x) labels[static_cast<size_t>(y) * W + x] = row[sx[x]];
+    }
+    return labels;
+}
+
+// ---------------------------------------------------------------------------------------
+// (2) GrabCut refinement of each segment's boundary band.
+
+struct Segment {
+    long pixels = 0;
+    int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1,
+        y1 = -1;
+    double sum[3] = {0, 0, 0};
+    double mean[3] = {0, 0, 0};
+};
+
+std::vector<Segment> describeSegments(const cv::Mat& bgr, const std::vector<int>& labels,
+                                      int count) {
+    std::vector<Segment> segs(count);
+    const int W = bgr.cols, H = bgr.rows;
+    for (int y = 0; y < H; ++y) {
+        const auto* row = bgr.ptr<cv::Vec3b>(y);
+        for (int x = 0; x < W; ++x) {
+            const int l = labels[static_cast<size_t>(y) * W + x];
+            if (l < 0) continue;
+            Segment& s = segs[l];
+            ++s.pixels;
+            s.x0 = std::min(s.x0, x);
+            s.x1 = std::max(s.x1, x);
+            s.y0 = std::min(s.y0, y);
+            s.y1 = std::max(s.y1, y);
+            for (int c = 0; c < 3; ++c) s.sum[c] += row[x][c];
+        }
+    }
+    for (auto& s : segs)
+        if (s.pixels > 0)
+            for (int c = 0; c < 3; ++c) s.mean[c] = s.sum[c] / s.pixels;
+    return segs;
+}
+
+// Returns the pixels whose label changed; pixels no segment claims become -1.
+long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, int band,
+                       int iterations, long minPixels, SegmentStats& st) {
+    const int W = bgr.cols, H = bgr.rows;
+    const size_t N = labels.size();
+    const auto segs = describeSegments(bgr, labels, count);
+    std::vector<uint8_t> ownerSaysBg(N, 0);
+    std::vector<int> claim(N, -1);
+    std::vector<float> claimDist(N, std::numeric_limits<float>::infinity());
+    const int margin = band + std::max(8, 2 * band);  // colour context beyond the band
+
+    for (int s = 0; s < count; ++s) {
+        const Segment& seg = segs[s];
+        if (seg.pixels < std::max(minPixels, 16L) || seg.pixels == static_cast<long>(N)) continue;
+        const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
+        const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
+        const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
+        cv::Mat inside(roi.size(), CV_8U);
+        for (int y = 0; y < roi.height; ++y) {
+            auto* row = inside.ptr<uint8_t>(y);
+            const int* lab = &labels[static_cast<size_t>(y + ry0) * W + rx0];
+            for (int x = 0; x < roi.width; ++x) row[x] = lab[x] == s ? 255 : 0;
+        }
+        cv::Mat distIn, distOut, outside;
+        cv::bitwise_not(inside, outside);
+        cv::distanceTransform(inside, distIn, cv::DIST_L2, cv::DIST_MASK_3);
+        cv::distanceTransform(outside, distOut, cv::DIST_L2, cv::DIST_MASK_3);
+        cv::Mat mask(roi.size(), CV_8U);
+        long fg = 0, bg = 0;
+        for (int y = 0; y < roi.height; ++y) {
+            const auto* in = inside.ptr<uint8_t>(y);
+            const auto* di = distIn.ptr<float>(y);
+            const auto* dout = distOut.ptr<float>(y);
+            auto* m = mask.ptr<uint8_t>(y);
+            for (int x = 0; x < roi.width; ++x) {
+                if (in[x]) {
+                    m[x] = di[x] > band ? cv::GC_FGD : cv::GC_PR_FGD;
+                    ++fg;
+                } else {
+                    m[x] = dout[x] > band ? cv::GC_BGD : cv::GC_PR_BGD;
+                    ++bg;
+                }
+            }
+        }
+        if (fg < 16 || bg < 16) continue;  // GrabCut's colour models need samples
+        cv::Mat before = mask.clone(), bgdModel, fgdModel;
+        // GrabCut seeds its colour models with k-means on OpenCV's (thread-local) random
+        // generator: a fixed seed per segment makes the result reproducible; the caller's
+        // generator state is restored.
+        const uint64_t savedRng = cv::theRNG().state;
+        cv::theRNG().state = 0x9e3779b97f4a7c15ULL ^ static_cast<uint64_t>(s + 1);
+        bool ok = true;
+        try {
+            cv::grabCut(bgr(roi), mask, cv::Rect(), bgdModel, fgdModel, iterations,
+                        cv::GC_INIT_WITH_MASK);
+        } catch (const cv::Exception&) {
+            ok = false;  // e.g. a degenerate colour model: leave this segment as it is
+        }
+        cv::theRNG().state = savedRng;
+        if (!ok) continue;
+        ++st.grabCutSegments;
+        st.grabCutPixels += static_cast<long>(roi.area());
+        for (int y = 0; y < roi.height; ++y) {
+            const auto* b = before.ptr<uint8_t>(y);
+            const auto* m = mask.ptr<uint8_t>(y);
+            const auto* colour = bgr.ptr<cv::Vec3b>(y + ry0) + rx0;
+            for (int x = 0; x < roi.width; ++x) {
+                if (b[x] != cv::GC_PR_FGD && b[x] != cv::GC_PR_BGD) continue;
+                const size_t p = static_cast<size_t>(y + ry0) * W + (x + rx0);
+                const bool isFg = (m[x] & 1) != 0;
+                if (b[x] == cv::GC_PR_FGD) {
+                    if (!isFg) ownerSaysBg[p] = 1;
+                } else if (isFg) {
+                    const float d = colourDist2(colour[x], seg.mean);
+                    if (d < claimDist[p]) {
+                        claimDist[p] = d;
+                        claim[p] = s;
+                    }
+                }
+            }
+        }
+    }
+    long changed = 0;
+    for (size_t p = 0; p < N; ++p)
+        if (ownerSaysBg[p] && claim[p] != labels[p]) {
+            labels[p] = claim[p];
+            ++changed;
+        }
+    return changed;
+}
+
+// ---------------------------------------------------------------------------------------
+// (3) Seeded region growing into the unlabelled pixels (-1), nearest colour first.
+
+long growIntoGaps(const cv::Mat& bgr, std::vector<int>& labels, int count) {
+    const int W = bgr.cols, H = bgr.rows;
+    const size_t N = labels.size();
+    long unassigned = std::count(labels.begin(), labels.end(), -1);
+    if (unassigned == 0) return 0;
+    if (unassigned == static_cast<long>(N)) {
+        std::fill(labels.begin(), labels.end(), 0);
+        return unassigned;
+    }
+    const cv::Vec3b* colour = bgr.ptr<cv::Vec3b>(0);  // continuous: made by toBgr8
+    std::vector<double> sum(static_cast<size_t>(count) * 3, 0.0), mean(sum.size(), 0.0);
+    std::vector<long> n(count, 0);
+    for (size_t p = 0; p < N; ++p)
+        if (labels[p] >= 0) {
+            const int l = labels[p];
+            ++n[l];
+            for (int c = 0; c < 3; ++c) sum[l * 3 + c] += colour[p][c];
+        }
+    auto updateMean = [&](int l) {
+        for (int c = 0; c < 3; ++c) mean[l * 3 + c] = sum[l * 3 + c] / std::max(1L, n[l]);
+    };
+    for (int l = 0; l < count; ++l) updateMean(l);
+
+    struct Entry {
+        float d;
+        int p, label;
+        bool operator>(const Entry& o) const {
+            return d != o.d ? d > o.d : (p != o.p ? p > o.p : label > o.label);
+        }
+    };
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    auto pushNeighbours = [&](int p, int l) {
+        const int x = p % W, y = p / W;
+        const int nb[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+        for (const auto& q : nb) {
+            if (q[0] < 0 || q[0] >= W || q[1] < 0 || q[1] >= H) continue;
+            const int qi = q[1] * W + q[0];
+            if (labels[qi] == -1) queue.push({colourDist2(colour[qi], &mean[l * 3]), qi, l});
+        }
+    };
+    for (size_t p = 0; p < N; ++p)
+        if (labels[p] >= 0) pushNeighbours(static_cast<int>(p), labels[p]);
+    long grown = 0;
+    while (!queue.empty()) {
+        const Entry e = queue.top();
+        queue.pop();
+        if (labels[e.p] != -1) continue;
+        labels[e.p] = e.label;
+        ++grown;
+        ++n[e.label];
+        for (int c = 0; c < 3; ++c) sum[e.label * 3 + c] += colour[e.p][c];
+        updateMean(e.label);
+        pushNeighbours(e.p, e.label);
+    }
+    return grown;
+}
+
+// ---------------------------------------------------------------------------------------
+// (4) 4-connected components; the small and the thin ones merged into their most similar
+// neighbour; dense relabelling by size. Also cleans FH's result at the working resolution.
+
+struct Components {
+    std::vector<int> of;  // pixel → component
+    int count = 0;
+};
+
+Components components4(const std::vector<int>& labels, int W, int H) {
+    Components cc;
+    const size_t N = labels.size();
+    cc.of.assign(N, -1);
+    std::vector<int> stack;
+    for (size_t start = 0; start < N; ++start) {
+        if (cc.of[start] >= 0) continue;
+        const int id = cc.count++;
+        const int l = labels[start];
+        cc.of[start] = id;
+        stack.push_back(static_cast<int>(start));
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            const int x = p % W, y = p / W;
+            auto visit = [&](int q) {
+                if (cc.of[q] < 0 && labels[q] == l) {
+                    cc.of[q] = id;
+                    stack.push_back(q);
+                }
+            };
+            if (x > 0) visit(p - 1);
+            if (x + 1 < W) visit(p + 1);
+            if (y > 0) visit(p - W);
+            if (y + 1 < H) visit(p + W);
+        }
+    }
+    return cc;
+}
+
+// Splits labels into 4-connected components and merges every component under minRegion pixels
+// or no wider than sliverWidth pixels (each of its pixels within (sliverWidth-1)/2 steps of
+// another region) into the 4-adjacent one of the most similar mean colour (ties: the longest
+// shared border); then merges adjacent regions whose shared border is weak (mean colour step
+// across it under weakEdge), weakest first. The union of two 4-adjacent 4-connected sets is
+// 4-connected, so every label ends as one 4-connected component. Relabels 0..count-1 by size,
+// largest first.
+MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp) {
+    const int W = bgr.cols, H = bgr.rows;
+    const Components cc = components4(labels, W, H);
+    const int C = cc.count;
+    MergeResult res;
+    res.components = C;
+    const size_t N = labels.size();
+    const cv::Vec3b* colour = bgr.ptr<cv::Vec3b>(0);  // continuous
+    std::vector<long> size(C, 0);
+    std::vector<double> sum(static_cast<size_t>(C) * 3, 0.0);
+    for (size_t p = 0; p < N; ++p) {
+        const int c = cc.of[p];
+        ++size[c];
+        for (int k = 0; k < 3; ++k) sum[c * 3 + k] += colour[p][k];
+    }
+    // Shared borders: pixel pairs, and the sum of the colour steps across them, each measured
+    // between the pixels one further out on either side (blurred edges are 2–3 pixels wide).
+    struct Border {
+        long length = 0;
+        double step = 0;
+    };
+    std::vector<std::unordered_map<int, Border>> adj(C);
+    auto colourStep = [&](size_t p, size_t q) {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double e = static_cast<double>(colour[p][k]) - colour[q][k];
+            d += e * e;
+        }
+        return std::sqrt(d);
+    };
+    auto link = [&](int a, int b, double step) {
+        Border& ab = adj[a][b];
+        ++ab.length;
+        ab.step += step;
+        Border& ba = adj[b][a];
+        ++ba.length;
+        ba.step += step;
+    };
+    cv::Mat interior(H, W, CV_8U, cv::Scalar(255));  // 0 on pixels with a foreign 4-neighbour
+    for (int y = 0; y < H; ++y) {
+        auto* in = interior.ptr<uint8_t>(y);
+        for (int x = 0; x < W; ++x) {
+            const size_t p = static_cast<size_t>(y) * W + x;
+            if (x + 1 < W && cc.of[p] != cc.of[p + 1]) {
+                link(cc.of[p], cc.of[p + 1],
+                     colourStep(p - (x > 0 ? 1 : 0), p + 1 + (x + 2 < W ? 1 : 0)));
+                in[x] = in[x + 1] = 0;
+            }
+            if (y + 1 < H && cc.of[p] != cc.of[p + W]) {
+                link(cc.of[p], cc.of[p + W],
+                     colourStep(p - (y > 0 ? W : 0), p + W + (y + 2 < H ? W : 0)));
+                in[x] = 0;
+                interior.ptr<uint8_t>(y + 1)[x] = 0;
+            }
+        }
+    }
+    std::vector<uint8_t> thin(C, 0);
+    if (mp.sliverWidth > 0 && C > 1) {
+        cv::Mat dist;  // steps (4-neighbour) to the nearest pixel on a region boundary
+        cv::distanceTransform(interior, dist, cv::DIST_L1, 3);
+        std::vector<float> maxDist(C, 0);
+        for (int y = 0; y < H; ++y) {
+            const float* d = dist.ptr<float>(y);
+            for (int x = 0; x < W; ++x) {
+                const int c = cc.of[static_cast<size_t>(y) * W + x];
+                maxDist[c] = std::max(maxDist[c], d[x]);
+            }
+        }
+        const float limit = static_cast<float>((mp.sliverWidth - 1) / 2) + 0.25f;
+        for (int c = 0; c < C; ++c) thin[c] = maxDist[c] <= limit;
+    }
+
+    std::vector<int> parent(C);
+    for (int c = 0; c < C; ++c) parent[c] = c;
+    auto find = [&](int c) {
+        while (parent[c] != c) c = parent[c] = parent[parent[c]];
+        return c;
+    };
+    // Merges a and b (both roots, adjacent); the one with the larger adjacency map survives.
+    auto unite = [&](int a, int b) {
+        if (adj[a].size() > adj[b].size()) std::swap(a, b);  // a goes into b
+        for (const auto& [n, border] : adj[a]) {
+            if (n == b) continue;
+            auto& an = adj[n];
+            an.erase(a);
+            Border& nb = an[b];
+            nb.length += border.length;
+            nb.step += border.step;
+            Border& bn = adj[b][n];
+            bn.length += border.length;
+            bn.step += border.step;
+        }
+        adj[b].erase(a);
+        std::unordered_map<int, Border>().swap(adj[a]);
+        parent[a] = b;
+        size[b] += size[a];
+        for (int k = 0; k < 3; ++k) sum[b * 3 + k] += sum[a * 3 + k];
+        thin[b] = thin[a] && thin[b];
+        return b;
+    };
+    auto needsMerge = [&](int c) { return size[c] < mp.minRegion || thin[c]; };
+
+    using Item = std::pair<long, int>;  // size, component: the smallest first
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (int c = 0; c < C; ++c)
+        if (needsMerge(c)) queue.push({size[c], c});
+    while (!queue.empty()) {
+        const auto [sz, c] = queue.top();
+        queue.pop();
+        if (parent[c] != c || size[c] != sz || !needsMerge(c) || adj[c].empty()) continue;
+        double m[3];
+        for (int k = 0; k < 3; ++k) m[k] = sum[c * 3 + k] / size[c];
+        int best = -1;
+        double bestD = 0;
+        long bestLen = 0;
+        for (const auto& [n, border] : adj[c]) {
+            double d = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double e = sum[n * 3 + k] / size[n] - m[k];
+                d += e * e;
+            }
+            if (best < 0 || d < bestD ||
+                (d == bestD && (border.length > bestLen ||
+                                (border.length == bestLen && n < best)))) {
+                best = n;
+                bestD = d;
+                bestLen = border.length;
+            }
+        }
+        const int r = unite(c, best);
+        ++res.merged;
+        if (needsMerge(r)) queue.push({size[r], r});
+    }
+
+    // Weak borders, weakest first.
+    if (mp.weakEdge > 0) {
+        struct Pair {
+            double step;
+            int a, b;
+            long length;
+            bool operator>(const Pair& o) const {
+                return step != o.step ? step > o.step : (a != o.a ? a > o.a : b > o.b);
+            }
+        };
+        std::priority_queue<Pair, std::vector<Pair>, std::greater<Pair>> pairs;
+        auto pushPairs = [&](int a, bool all) {
+            for (const auto& [n, border] : adj[a])
+                if (all || a < n)
+                    pairs.push({border.step / border.length, std::min(a, n), std::max(a, n),
+                                border.length});
+        };
+        for (int c = 0; c < C; ++c)
+            if (parent[c] == c) pushPairs(c, false);
+        while (!pairs.empty() && pairs.top().step < mp.weakEdge) {
+            const Pair e = pairs.top();
+            pairs.pop();
+            if (parent[e.a] != e.a || parent[e.b] != e.b) continue;
+            const auto it = adj[e.a].find(e.b);
+            if (it == adj[e.a].end() || it->second.length != e.length) continue;  // stale
+            pushPairs(unite(e.a, e.b), true);
+            ++res.weakMerged;
+        }
+    }
+
+    // Dense labels, largest region first (ties: the one met first in scan order).
+    std::vector<int> roots, firstComp(C, std::numeric_limits<int>::max());
+    for (int c = 0; c < C; ++c) {
+        const int r = find(c);
+        if (r == c) roots.push_back(c);
+        firstComp[r] = std::min(firstComp[r], c);
+    }
+    std::sort(roots.begin(), roots.end(), [&](int a, int b) {
+        return size[a] != size[b] ? size[a] > size[b] : firstComp[a] < firstComp[b];
+    });
+    std::vector<int> dense(C, -1);
+    for (size_t i = 0; i < roots.size(); ++i) dense[roots[i]] = static_cast<int>(i);
+    for (size_t p = 0; p < N; ++p) labels[p] = dense[find(cc.of[p])];
+    res.count = static_cast<int>(roots.size());
+    return res;
+}
+
+}  // namespace
+
+Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
+    const auto t0 = Clock::now();
+    const int W = image.width, H = image.height;
+    if (W <= 0 || H <= 0 || image.pixels.size() < static_cast<size_t>(W) * H * 4)
+        throw Error("cannot segment an empty image");
+    Segmentation seg;
+    seg.width = W;
+    seg.height = H;
+    SegmentStats& st = seg.stats;
+    const long N = static_cast<long>(W) * H;
+    const long minRegion =
+        options.minRegion > 0 ? options.minRegion : std::max(64L, N / 1000);
+    const cv::Mat bgr = toBgr8(image);
+
+    // (1) FH on the working image.
+    auto t = Clock::now();
+    auto downscale = [&](long maxPixels) {
+        if (maxPixels <= 0 || N <= maxPixels) return bgr;
+        const double f = std::sqrt(static_cast<double>(maxPixels) / N);
+        const int ws = std::max(1, static_cast<int>(std::floor(W * f)));
+        const int hs = std::max(1, static_cast<int>(std::floor(H * f)));
+        cv::Mat small;
+        cv::resize(bgr, small, cv::Size(ws, hs), 0, 0, cv::INTER_AREA);
+        return small;
+    };
+    const cv::Mat work = downscale(options.workPixels);
+    st.workWidth = work.cols;
+    st.workHeight = work.rows;
+    const double workShare = static_cast<double>(work.total()) / N;
+    const int wanted = options.segments > 0 ? options.segments : 12;
+    const int fhMinSize =
+        options.fhMinSize > 0
+            ? options.fhMinSize
+            : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
+                                                 std::floor(work.total() / (8.0 * wanted))}));
+    const FhRun fh = graphSegment(work, options, fhMinSize, st);
+    st.fhRegions = fh.rawCount;
+    st.fhCleanRegions = fh.count;
+    st.fhSeconds = secondsSince(t);
+
+    // (2) GrabCut on each segment's boundary band, at full resolution up to grabCutPixels.
+    t = Clock::now();
+    if (options.grabCut && fh.count > 1 && W >= 8 && H >= 8) {
+        const cv::Mat gc = downscale(options.grabCutPixels);
+        st.grabCutWidth = gc.cols;
+        st.grabCutHeight = gc.rows;
+        std::vector<int> labels = upscaleLabels(fh.labels, work.cols, work.rows, gc.cols, gc.rows);
+        const double scale = static_cast<double>(gc.cols) / work.cols;
+        const int band = options.band > 0
+                             ? options.band
+                             : std::max(3, static_cast<int>(std::ceil(scale)) + 2);
+        const double gcShare = static_cast<double>(gc.total()) / N;
+        const long minPixels = std::lround(
+            (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
+        st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
+                                              std::max(1, options.grabCutIterations),
+                                              minPixels, st);
+        seg.labels = gc.cols == W && gc.rows == H
+                         ? std::move(labels)
+                         : upscaleLabels(labels, gc.cols, gc.rows, W, H);
+    } else {
+        seg.labels = upscaleLabels(fh.labels, work.cols, work.rows, W, H);
+    }
+    st.grabCutSeconds = secondsSince(t);
+
+    // (3) Region growing into what GrabCut left unclaimed.
+    t = Clock::now();
+    st.grown = growIntoGaps(bgr, seg.labels, fh.count);
+    st.growSeconds = secondsSince(t);
+
+    // (4) One 4-connected component per label, none under minRegion.
+    t = Clock::now();
+    const MergeResult merged =
+        mergeRegions(bgr, seg.labels, {minRegion, options.sliverWidth, options.weakEdge});
+    seg.count = st.regions = merged.count;
+    st.components = merged.components;
+    st.merged = merged.merged;
+    st.weakMerged = merged.weakMerged;
+    st.mergeSeconds = secondsSince(t);
+    st.seconds = secondsSince(t0);
+    return seg;
+}
+
+}  // namespace gm

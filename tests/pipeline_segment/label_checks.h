@@ -1,0 +1,91 @@
+// Helpers for the segmentation tests: synthetic images and the label-map contract.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "converters/segment.h"
+#include "meshcore/image.h"
+
+namespace gm::test {
+
+// An opaque image whose pixel (x, y) takes the colour f(x + .5, y + .5).
+inline RgbaImage paint(int w, int h, const std::function<void(double, double, float*)>& f) {
+    RgbaImage im(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float* p = im.at(x, y);
+            f(x + .5, y + .5, p);
+            p[3] = 1;
+        }
+    return im;
+}
+
+// What a Segmentation must be; an empty string when it is all of it.
+inline std::string labelMapProblem(const Segmentation& s, long minRegion) {
+    const int W = s.width, H = s.height;
+    const size_t N = static_cast<size_t>(W) * H;
+    if (s.labels.size() != N) return "labels has the wrong size";
+    if (s.count < 1) return "no region";
+    std::vector<long> size(s.count, 0);
+    for (int l : s.labels) {
+        if (l < 0 || l >= s.count) return "label " + std::to_string(l) + " out of range";
+        ++size[l];
+    }
+    for (int l = 0; l < s.count; ++l) {
+        if (size[l] == 0) return "label " + std::to_string(l) + " unused (not dense)";
+        if (s.count > 1 && size[l] < minRegion)
+            return "label " + std::to_string(l) + " has " + std::to_string(size[l]) +
+                   " pixels, under " + std::to_string(minRegion);
+        if (l > 0 && size[l] > size[l - 1]) return "labels not ordered by size";
+    }
+    // Each label one 4-connected component: flood each label from its first pixel.
+    std::vector<uint8_t> seen(N, 0);
+    std::vector<int> stack;
+    std::vector<uint8_t> started(s.count, 0);
+    for (size_t start = 0; start < N; ++start) {
+        if (seen[start]) continue;
+        const int l = s.labels[start];
+        if (started[l]) return "label " + std::to_string(l) + " is not 4-connected";
+        started[l] = 1;
+        seen[start] = 1;
+        stack.push_back(static_cast<int>(start));
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            const int x = p % W, y = p / W;
+            const int nb[4] = {x > 0 ? p - 1 : -1, x + 1 < W ? p + 1 : -1, y > 0 ? p - W : -1,
+                               y + 1 < H ? p + W : -1};
+            for (int q : nb)
+                if (q >= 0 && !seen[q] && s.labels[q] == l) {
+                    seen[q] = 1;
+                    stack.push_back(q);
+                }
+        }
+    }
+    return {};
+}
+
+inline long defaultMinRegion(int w, int h) {
+    return std::max(64L, static_cast<long>(w) * h / 1000);
+}
+
+// Pixels where the label map disagrees with a two-region truth (inside → one label, outside →
+// the other), under the better of the two ways of matching the labels.
+inline long twoRegionMismatch(const Segmentation& s, const std::function<bool(double, double)>& in) {
+    long a = 0, b = 0;
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            const int l = s.labels[static_cast<size_t>(y) * s.width + x];
+            const bool i = in(x + .5, y + .5);
+            a += (l == 0) != i;
+            b += (l == 1) != i;
+        }
+    return std::min(a, b);
+}
+
+}  // namespace gm::test
