@@ -238,8 +238,11 @@ int cmdConvert(const Args& a, bool renderOnly) {
                 requireInputFile(it->second);
                 requireDistinct(it->second, out, "mask");
             }
+            std::map<std::string, std::string> values = a.values;
+            for (const std::string& f : gm::kImageFlagOptions)
+                if (a.flags.count(f)) values[f] = "1";
             try {
-                gm::convertImageCommand(in, out, *writer, wo, a.values);
+                gm::convertImageCommand(in, out, *writer, wo, values);
             } catch (const std::invalid_argument& e) {
                 throw UsageError(e.what());
             }
@@ -247,6 +250,8 @@ int cmdConvert(const Args& a, bool renderOnly) {
         }
         for (const std::string& o : gm::kImageValuedOptions)
             if (a.values.count(o)) throw UsageError(o + " applies to raster inputs only");
+        for (const std::string& o : gm::kImageFlagOptions)
+            if (a.flags.count(o)) throw UsageError(o + " applies to raster inputs only");
     }
     const gm::Document doc = readDocument(in);
     const double pixels = doc.width * wo.rasterScale * doc.height * wo.rasterScale;
@@ -373,8 +378,9 @@ int main(int argc, char** argv) {
             std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance",
                                             "--scale", "--background"};
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
-            const Args a = parseArgs(command, argc, argv, valued,
-                                     {"--compact", "--legacy", "--text-shading"});
+            std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
+            if (command == "convert") flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());
+            const Args a = parseArgs(command, argc, argv, valued, flags);
             return cmdConvert(a, command == "render");
         }
         if (command == "info") return cmdInfo(parseArgs(command, argc, argv, {}, {}));

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "converters/convert_image.h"
+#include "converters/convert_segments.h"
 #include "converters/foreground.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
@@ -23,7 +24,8 @@ namespace gm {
 
 const std::set<std::string> kImageValuedOptions = {
     "--mask", "--max-error", "--max-patches", "--report", "--colors", "--max-pixels",
-    "--min-area", "--min-hole", "--samples"};
+    "--min-area", "--min-hole", "--samples", "--segments", "--min-region", "--threads"};
+const std::set<std::string> kImageFlagOptions = {"--segment"};
 
 const char* kImageConvertHelp =
     "  raster input (IN is .png .jpg .tif .exr ...): the object becomes gradient meshes\n"
@@ -38,7 +40,14 @@ const char* kImageConvertHelp =
     "  --min-area N            drop object components under N pixels (default 64)\n"
     "  --min-hole N            fill holes under N pixels (default 16)\n"
     "  --samples F             triangulation samples per region pixel (default 0.03,\n"
-    "                          at most 40000 per region)\n";
+    "                          at most 40000 per region)\n"
+    "  --segment               the whole image: segmented into large regions (graph-based,\n"
+    "                          GrabCut-refined), one mesh per region, holes included, over a\n"
+    "                          coarse base mesh so that every pixel is painted\n"
+    "  --segments N            with --segment: roughly how many regions (default: automatic)\n"
+    "  --min-region N          with --segment: merge regions under N pixels into a neighbour\n"
+    "                          (default: scaled to the image)\n"
+    "  --threads N             regions converted at once (default: all cores)\n";
 
 namespace {
 
@@ -201,6 +210,17 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
             throw std::invalid_argument("--colors expects fit or sampled, got '" + it->second +
                                         "'");
     }
+    const bool segment = values.count("--segment") > 0;
+    SegmentConvertOptions so;
+    so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
+    so.segment.minRegion = static_cast<int>(number(values, "--min-region", 0, 1, 1e9));
+    so.threads = static_cast<int>(number(values, "--threads", 0, 1, 1024));
+    co.threads = so.threads;
+    if (!segment)
+        for (const char* o : {"--segments", "--min-region"})
+            if (values.count(o)) throw std::invalid_argument(std::string(o) + " needs --segment");
+    if (segment && values.count("--mask"))
+        throw std::invalid_argument("--segment converts the whole image; it takes no --mask");
     std::string reportPath;
     if (auto it = values.find("--report"); it != values.end()) {
         reportPath = it->second;
@@ -235,17 +255,23 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     t0 = Clock::now();
     ObjectMask mask;
     try {
-        mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+        if (!segment) mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw nameFile(e);
     }
     const double maskSeconds = since(t0);
 
-    ConvertReport report;
+    SegmentConvertReport segReport;
+    ConvertReport& report = segReport.convert;
     Document doc;
     try {
-        doc = convertImage(image, mask, co, in, &report);
+        if (segment) {
+            so.convert = co;
+            doc = convertSegmented(image, so, in, &segReport);
+        } else {
+            doc = convertImage(image, mask, co, in, &report);
+        }
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw nameFile(e);
@@ -270,11 +296,41 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
       << ",\n  \"meshes\": " << doc.meshes.size() << ",\n  \"patches\": " << report.patches
       << ",\n  \"error\": " << errorJson(report.error) << ",\n  \"bytes\": {\"output\": "
       << (ec ? 0 : outBytes) << ", \"gmb_lossless\": " << encodeGmb(doc, false).size()
-      << ", \"gmb_compact\": " << encodeGmb(doc, true).size() << ", \"svg\": "
-      << encodeSvg(doc, WriteOptions{}).size() << "},\n  \"regions\": [";
+      << ", \"gmb_compact\": " << encodeGmb(doc, true).size() << ", \"svg\": ";
+    // The exact SVG of a whole image (thousands of patches) takes longer to encode than the
+    // conversion: left out there; convert the .gmb to .svg to know it.
+    if (segment)
+        s << "null}";
+    else
+        s << encodeSvg(doc, WriteOptions{}).size() << "}";
+    if (segment) {
+        const SegmentStats& st = segReport.segmentation;
+        s << ",\n  \"segments\": {\"count\": " << report.regions.size()
+          << ", \"graph_regions\": " << st.fhRegions << ", \"grabcut_changed\": " << st.grabCutChanged
+          << ", \"grown\": " << st.grown << ", \"merged\": " << st.merged
+          << ", \"failed\": " << segReport.failedRegions
+          << ", \"holes_filled\": " << segReport.filledRegions
+          << ", \"thin_parts_left_out\": " << segReport.trimmedRegions
+          << ", \"base_patches\": " << segReport.basePatches
+          << ", \"region_uncovered\": " << num(segReport.regionUncovered)
+          << ",\n    \"seconds\": {\"segmentation\": " << num(segReport.segmentSeconds)
+          << ", \"graph\": " << num(st.fhSeconds) << ", \"grabcut\": " << num(st.grabCutSeconds)
+          << ", \"grow\": " << num(st.growSeconds) << ", \"merge\": " << num(st.mergeSeconds)
+          << ", \"regions\": " << num(segReport.regionsSeconds)
+          << ", \"convert_wall\": " << num(segReport.convertSeconds)
+          << ", \"measure\": " << num(segReport.measureSeconds)
+          << ", \"total_wall\": " << num(segReport.totalSeconds) << "}"
+          << ",\n    \"border_error\": " << errorJson(segReport.border)
+          << ",\n    \"interior_error\": " << errorJson(segReport.interior) << "}";
+    }
+    s << ",\n  \"regions\": [";
     for (size_t k = 0; k < report.regions.size(); ++k) {
         const RegionReport& r = report.regions[k];
-        s << (k ? "," : "") << "\n    {\"pixels\": " << r.pixels << ", \"holes\": " << r.holes
+        s << (k ? "," : "") << "\n    {\"pixels\": " << r.pixels << ", \"holes\": " << r.holes;
+        if (segment)
+            s << ", \"label\": " << segReport.regionLabels[k]
+              << ", \"fallback\": " << jsonString(segReport.fallbacks[k]);
+        s
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices
           << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns

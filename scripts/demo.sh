@@ -24,5 +24,10 @@ $gm info out/pic1.gmb
 $gm convert out/pic1.gmb -o out/pic1.svg
 $gm convert out/pic1.gmb -o out/pic1-legacy.pdf --legacy
 $gm render out/pic1.gmb -o out/pic1.png --background white
+# A whole image: segmented into large regions, one mesh each (holes included) over a base mesh.
+$gm convert samples/fruits.jpg --segment -o out/fruits.gmb --report out/fruits.json
+$gm convert out/fruits.gmb -o out/fruits.svg
+$gm render out/fruits.gmb -o out/fruits.png
+$gm compare samples/fruits.jpg out/fruits.png
 set +x
 ls -l out

@@ -59,6 +59,78 @@ FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
     return e;
 }
 
+std::string regionLabel(const Region& region) {
+    const Vec2 at = region.outer.points.empty() ? Vec2{} : region.outer.points.front();
+    return "(" + std::to_string(region.pixelCount) + " px, " + std::to_string(region.holes.size()) +
+           " holes, outline from (" + std::to_string(static_cast<int>(at.x)) + ", " +
+           std::to_string(static_cast<int>(at.y)) + "))";
+}
+
+GradientMesh convertRegion(const RgbaImage& image, const Region& region,
+                           const ConvertOptions& options, RegionReport& rr) {
+    rr = RegionReport{};
+    rr.pixels = region.pixelCount;
+    rr.holes = static_cast<int>(region.holes.size());
+    auto t0 = Clock::now();
+    const RegionCorners corners = findCorners(region);
+    rr.seconds.corners = since(t0);
+
+    t0 = Clock::now();
+    TriangulateOptions to;
+    // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
+    // 4096² object needs no finer triangulation than a 1024² one.
+    to.sampleFraction = std::min(options.sampleFraction,
+                                 double(options.maxSamples) / std::max(1, region.pixelCount));
+    TriMesh tri = triangulateRegion(image, region, corners, to);
+    rr.seconds.triangulate = since(t0);
+
+    t0 = Clock::now();
+    const TopologyMap topo = buildTopologyMapRefining(tri, corners.px, corners.py);
+    rr.seconds.topology = since(t0);
+    rr.triangles = static_cast<int>(tri.triangles.size());
+    rr.vertices = static_cast<int>(tri.vertices.size());
+    rr.mapRefinedVertices = topo.stats.refinedVertices;
+
+    t0 = Clock::now();
+    const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
+    rr.seconds.feature = since(t0);
+    rr.featureSolves = feature.solves;
+    rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
+    if (rr.flippedTriangles != 0)
+        throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
+                    " triangles");
+
+    t0 = Clock::now();
+    const GridBuilder grid(tri, feature.map);
+    GridOptions go;
+    // The initial grid takes at most a quarter of the patch budget: the rest is for the
+    // outline and the colours.
+    go.targetPatchSize =
+        std::max(options.targetPatchSize,
+                 std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
+    for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
+    BoundaryFitOptions bf;
+    bf.maxPatches = options.maxPatches;
+    bf.tolerance = options.outlineTolerance;
+    const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
+    rr.outlineDeviation = fitted.maxDeviation;
+    rr.outlineKnots = fitted.addedU + fitted.addedV;
+    RefineOptions rf;
+    rf.maxError = options.maxError;
+    rf.maxPatches = options.maxPatches;
+    rf.color.mode = options.colors;
+    rf.color.threads = options.threads;
+    RefineResult refined = refineMesh(grid, go, image, region, rf);
+    rr.seconds.mesh = since(t0);
+
+    rr.columns = refined.mesh.columns();
+    rr.rows = refined.mesh.rows();
+    rr.patches = refined.mesh.patchCount();
+    rr.error = refined.error;
+    rr.refinement = refined.steps;
+    return std::move(refined.mesh);
+}
+
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report) {
     ConvertReport local;
@@ -85,85 +157,21 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     doc.height = image.height;
     for (const Region& region : regions) {
         RegionReport rr;
-        rr.pixels = region.pixelCount;
-        rr.holes = static_cast<int>(region.holes.size());
-        // Stage errors name the image and the region.
         try {
-            t0 = Clock::now();
-            const RegionCorners corners = findCorners(region);
-            rr.seconds.corners = since(t0);
-
-            t0 = Clock::now();
-            TriangulateOptions to;
-            // Large regions get at most maxSamples samples: the maps' solves grow with them,
-            // and a 4096² object needs no finer triangulation than a 1024² one.
-            to.sampleFraction = std::min(options.sampleFraction,
-                                         double(options.maxSamples) / std::max(1, region.pixelCount));
-            TriMesh tri = triangulateRegion(image, region, corners, to);
-            rr.seconds.triangulate = since(t0);
-
-            t0 = Clock::now();
-            const TopologyMap topo = buildTopologyMapRefining(tri, corners.px, corners.py);
-            rr.seconds.topology = since(t0);
-            rr.triangles = static_cast<int>(tri.triangles.size());
-            rr.vertices = static_cast<int>(tri.vertices.size());
-            rr.mapRefinedVertices = topo.stats.refinedVertices;
-
-            t0 = Clock::now();
-            const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
-            rr.seconds.feature = since(t0);
-            rr.featureSolves = feature.solves;
-            rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
-            if (rr.flippedTriangles != 0)
-                throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
-                                " triangles",
-                            imageName);
-
-            t0 = Clock::now();
-            const GridBuilder grid(tri, feature.map);
-            GridOptions go;
-            // The initial grid takes at most a quarter of the patch budget: the rest is for
-            // the outline and the colours.
-            go.targetPatchSize = std::max(
-                options.targetPatchSize,
-                std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
-            for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
-            BoundaryFitOptions bf;
-            bf.maxPatches = options.maxPatches;
-            bf.tolerance = options.outlineTolerance;
-            const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
-            rr.outlineDeviation = fitted.maxDeviation;
-            rr.outlineKnots = fitted.addedU + fitted.addedV;
-            RefineOptions rf;
-            rf.maxError = options.maxError;
-            rf.maxPatches = options.maxPatches;
-            rf.color.mode = options.colors;
-            RefineResult refined = refineMesh(grid, go, image, region, rf);
-            rr.seconds.mesh = since(t0);
-
-            rr.columns = refined.mesh.columns();
-            rr.rows = refined.mesh.rows();
-            rr.patches = refined.mesh.patchCount();
-            rr.error = refined.error;
-            rr.refinement = refined.steps;
-            rep.patches += rr.patches;
-            rep.seconds.corners += rr.seconds.corners;
-            rep.seconds.triangulate += rr.seconds.triangulate;
-            rep.seconds.topology += rr.seconds.topology;
-            rep.seconds.feature += rr.seconds.feature;
-            rep.seconds.mesh += rr.seconds.mesh;
-            rep.regions.push_back(std::move(rr));
-            doc.meshes.push_back(std::move(refined.mesh));
+            doc.meshes.push_back(convertRegion(image, region, options, rr));
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
-            const Vec2 at = region.outer.points.empty() ? Vec2{} : region.outer.points.front();
-            throw Error("region " + std::to_string(rep.regions.size()) + " (" +
-                            std::to_string(region.pixelCount) + " px, " +
-                            std::to_string(region.holes.size()) + " holes, outline from (" +
-                            std::to_string(static_cast<int>(at.x)) + ", " +
-                            std::to_string(static_cast<int>(at.y)) + ")): " + e.reason(),
+            throw Error("region " + std::to_string(rep.regions.size()) + " " + regionLabel(region) +
+                            ": " + e.reason(),
                         imageName);
         }
+        rep.patches += rr.patches;
+        rep.seconds.corners += rr.seconds.corners;
+        rep.seconds.triangulate += rr.seconds.triangulate;
+        rep.seconds.topology += rr.seconds.topology;
+        rep.seconds.feature += rr.seconds.feature;
+        rep.seconds.mesh += rr.seconds.mesh;
+        rep.regions.push_back(std::move(rr));
     }
     // Measured over the regions' pixels: dropped specks and filled holes are not the object.
     ObjectMask measured = mask;

@@ -527,3 +527,47 @@ TEST_CASE("mesh inputs reject the image-only options", "[cli_convert]") {
         CHECK(entries(d) == std::set<std::string>{"s.gmb", "m.png"});
     }
 }
+
+TEST_CASE("--segment options: bad combinations are usage errors", "[cli_convert][segment]") {
+    const fs::path d = tmpDir("segmentargs");
+    writePng(opaqueRamp(60, 50), d / "ramp.png");
+    writePng(ellipseMask(60, 50), d / "mask.png");
+    struct Case {
+        std::string args, words;
+    };
+    for (const Case& c : {Case{"--segment --mask " + q(d / "mask.png"), "--mask"},
+                          Case{"--segments 5", "needs --segment"},
+                          Case{"--min-region 100", "needs --segment"},
+                          Case{"--segment --segments 0", "--segments"},
+                          Case{"--segment --threads 0", "--threads"}}) {
+        INFO(c.args);
+        const Run r =
+            gradmesh("convert " + q(d / "ramp.png") + " -o " + q(d / "out.gmb") + " " + c.args, d);
+        checkFailure(r, 2, {c.words});
+        CHECK(entries(d) == std::set<std::string>{"ramp.png", "mask.png"});
+    }
+    // --segment on a mesh input.
+    gm::FormatRegistry::builtin().forPath("s.gmb")->write(
+        gm::makeDemoDocument(), (d / "s.gmb").string(), gm::WriteOptions{});
+    const Run r = gradmesh("convert " + q(d / "s.gmb") + " -o " + q(d / "y.svg") + " --segment", d);
+    checkFailure(r, 2, {"--segment", "raster inputs only"});
+}
+
+TEST_CASE("--segment converts a whole image with every pixel painted", "[cli_convert][segment]") {
+    const fs::path d = tmpDir("segmentrun");
+    const std::string in = std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg";
+    const Run r = gradmesh("convert " + q(in) + " --segment -o " + q(d / "fish.gmb") +
+                               " --report " + q(d / "fish.json"),
+                           d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string rep = slurp(d / "fish.json");
+    CHECK_THAT(rep, Contains("\"segments\": {\"count\": "));
+    CHECK_THAT(rep, Contains("\"uncovered\": 0,"));  // over every pixel of the image
+    CHECK_THAT(rep, Contains("\"border_error\""));
+    CHECK_THAT(rep, Contains("\"mask_source\": \"segmentation\""));
+    // The mesh file reads back: a base mesh and one mesh per converted region.
+    const Run info = gradmesh("info " + q(d / "fish.gmb"), d);
+    CHECK(info.code == 0);
+    CHECK_THAT(info.out, Contains("mesh 1:"));
+}

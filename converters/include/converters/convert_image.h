@@ -25,6 +25,7 @@ struct ConvertOptions {
     double targetPatchSize = 96;  // pixels: the initial grid's patch size
     double outerLevel = 0.35;     // RegionOptions::outerLevel
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
+    int threads = 0;              // renderer threads inside one region's fit (0: all cores)
 };
 
 struct StageSeconds {
@@ -62,6 +63,14 @@ struct ConvertReport {
 // out of E, RMSE, PSNR and max. Both images must have the mask's size.
 FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
                          const std::vector<uint8_t>& mask);
+
+// One region through corners, triangulate, maps, grid, colours and refine; fills `report`.
+// Throws gm::Error (without a file name) when a stage fails.
+GradientMesh convertRegion(const RgbaImage& image, const Region& region,
+                           const ConvertOptions& options, RegionReport& report);
+
+// "(N px, H holes, outline from (x, y))": how errors name a region.
+std::string regionLabel(const Region& region);
 
 // Converts every region of `mask` (1 = object). Throws gm::Error naming `imageName` for a region
 // it cannot convert (regions with holes until the slit map lands in the pipeline).

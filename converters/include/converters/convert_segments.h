@@ -1,0 +1,48 @@
+// Whole images (DESIGN.md §5, paper §4.6): the image is segmented into large regions
+// (segment.h), each region — holes included — becomes one mesh through the per-region pipeline
+// (convertRegion), the regions converted in parallel. No seams: each region's mesh reaches about
+// a pixel under its neighbours (its outline traced around the region dilated by one pixel; its
+// colours fitted to its own pixels only), and a coarse base mesh over the whole image, drawn
+// first, paints whatever no region mesh reaches.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "converters/convert_image.h"
+#include "converters/segment.h"
+
+namespace gm {
+
+struct SegmentConvertOptions {
+    ConvertOptions convert;      // per region: --max-error, --max-patches, colours, ...
+    SegmentOptions segment;
+    int threads = 0;             // regions converted at once (0: all hardware threads)
+    int overlap = 1;             // pixels each region's outline reaches under its neighbours
+    double basePatchSize = 64;   // pixels per patch side of the base mesh
+};
+
+struct SegmentConvertReport {
+    ConvertReport convert;       // regions (each with label, fallback), error over ALL pixels
+    SegmentStats segmentation;
+    std::vector<int> regionLabels;        // per convert.regions entry: its segment label
+    std::vector<std::string> fallbacks;   // per entry: "" or what was done when it failed
+    int failedRegions = 0;       // left to the base mesh
+    int filledRegions = 0;       // converted with their holes filled (inner regions on top)
+    int trimmedRegions = 0;      // converted without their parts thinner than 5 (or 11) px
+    int basePatches = 0;
+    double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
+    FitError border;             // error over pixels with a 4-neighbour of another segment
+    FitError interior;           // ... and over the others
+    double segmentSeconds = 0, regionsSeconds = 0, convertSeconds = 0, measureSeconds = 0;
+    double totalSeconds = 0;     // wall, segmentation to measurement
+};
+
+// Throws gm::Error naming `imageName` when the image is empty or the segmentation fails; a
+// region that cannot be converted is retried with its holes filled, then without its parts
+// thinner than 5 px, then 11 px (holes filled), and else left to the base mesh (each reported in
+// `fallbacks`, never silently).
+Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
+                          const std::string& imageName, SegmentConvertReport* report = nullptr);
+
+}  // namespace gm

@@ -1,0 +1,285 @@
+#include "converters/convert_segments.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "converters/colours.h"
+#include "converters/regions.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+
+namespace gm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The region's pixels grown by `radius` pixels (a square neighbourhood), within the image.
+std::vector<uint8_t> dilated(const std::vector<uint8_t>& mask, int w, int h, int radius) {
+    std::vector<uint8_t> rows(mask.size(), 0), out(mask.size(), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            uint8_t v = 0;
+            for (int d = -radius; d <= radius && !v; ++d) {
+                const int xx = x + d;
+                if (xx >= 0 && xx < w) v = mask[static_cast<size_t>(y) * w + xx];
+            }
+            rows[static_cast<size_t>(y) * w + x] = v;
+        }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            uint8_t v = 0;
+            for (int d = -radius; d <= radius && !v; ++d) {
+                const int yy = y + d;
+                if (yy >= 0 && yy < h) v = rows[static_cast<size_t>(yy) * w + x];
+            }
+            out[static_cast<size_t>(y) * w + x] = v;
+        }
+    return out;
+}
+
+// The geometry region of `own`: its outline traced around its pixels dilated by `overlap` into
+// `under` (its holes shrink by as much; holes under minHole pixels filled), with `own`'s pixels
+// as the mask the colours are fitted to.
+// `under`: the pixels it may grow into (those of regions drawn after it, on top).
+Region grownRegion(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under) {
+    if (overlap <= 0 && minHole <= 0) return own;
+    RegionOptions ro;
+    ro.minArea = 1;
+    ro.minHole = minHole;
+    std::vector<uint8_t> grown = own.mask;
+    if (overlap > 0) {
+        const std::vector<uint8_t> d = dilated(own.mask, own.width, own.height, overlap);
+        for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
+    }
+    std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, grown), ro);
+    if (rs.empty()) throw Error("the grown region vanished");
+    Region g = std::move(rs.front());  // the largest: grown from one component, it is one
+    g.label = own.label;
+    g.mask = own.mask;
+    g.pixelCount = own.pixelCount;
+    return g;
+}
+
+// The region's pixels less its parts thinner than 2·radius+1 pixels (a morphological opening
+// with a square), largest remaining component only, holes filled: a last try for a region whose
+// thin parts the maps cannot follow. Empty when nothing is left.
+std::vector<uint8_t> opened(const std::vector<uint8_t>& mask, int w, int h, int radius) {
+    std::vector<uint8_t> inv(mask.size());
+    for (size_t k = 0; k < mask.size(); ++k) inv[k] = !mask[k];
+    std::vector<uint8_t> eroded = dilated(inv, w, h, radius);
+    for (auto& v : eroded) v = !v;
+    std::vector<uint8_t> out = dilated(eroded, w, h, radius);
+    for (size_t k = 0; k < out.size(); ++k) out[k] = out[k] && mask[k];
+    return out;
+}
+
+// A C×R mesh of straight patches over the whole canvas, colours fitted to every pixel.
+GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
+    const int C = std::max(1, static_cast<int>(std::lround(image.width / patchSize)));
+    const int R = std::max(1, static_cast<int>(std::lround(image.height / patchSize)));
+    GradientMesh m(C, R);
+    const double du = double(image.width) / C, dv = double(image.height) / R;
+    for (int j = 0; j <= R; ++j)
+        for (int i = 0; i <= C; ++i) {
+            Node& n = m.node(i, j);
+            n.pos = {i * du, j * dv};
+            n.posU = {du, 0};
+            n.posV = {0, dv};
+        }
+    Region all;
+    all.width = image.width;
+    all.height = image.height;
+    all.mask.assign(static_cast<size_t>(image.width) * image.height, 1);
+    all.pixelCount = image.width * image.height;
+    ColorOptions co;
+    co.threads = threads;
+    return computeColors(m, image, all, co).mesh;
+}
+}  // namespace
+
+Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
+                          const std::string& imageName, SegmentConvertReport* report) {
+    SegmentConvertReport local;
+    SegmentConvertReport& rep = report ? *report : local;
+    rep = SegmentConvertReport{};
+    ConvertReport& cr = rep.convert;
+    cr.maskSource = "segmentation";
+    cr.width = image.width;
+    cr.height = image.height;
+    if (image.width <= 0 || image.height <= 0) throw Error("the image has no pixels", imageName);
+    const auto tStart = Clock::now();
+
+    auto t0 = Clock::now();
+    Segmentation seg;
+    try {
+        seg = segmentImage(image, options.segment);
+    } catch (const Error& e) {
+        if (!e.file().empty()) throw;
+        throw Error("segmentation: " + e.reason(), imageName);
+    }
+    rep.segmentation = seg.stats;
+    rep.segmentSeconds = since(t0);
+
+    t0 = Clock::now();
+    RegionOptions ro;
+    ro.minArea = 1;
+    ro.minHole = options.convert.minHole;
+    const std::vector<Region> regions = extractRegionsFromLabels(seg.width, seg.height, seg.labels, ro);
+    rep.regionsSeconds = since(t0);
+    cr.seconds.regions = rep.segmentSeconds + rep.regionsSeconds;
+
+    // Regions in parallel, largest first; each region's fit renders on one thread then.
+    const int hw = std::max(1u, std::thread::hardware_concurrency());
+    const int workers = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
+                                                  static_cast<int>(regions.size())));
+    ConvertOptions co = options.convert;
+    if (workers > 1) co.threads = 1;
+    const size_t n = regions.size();
+    std::vector<GradientMesh> meshes(n);
+    std::vector<RegionReport> reports(n);
+    std::vector<std::string> fallbacks(n);
+    std::vector<char> ok(n, 0);
+    // Drawn in this order (largest first): a region reaches under the later ones only, so
+    // each pixel keeps the colour of its own region and seams show the region beneath.
+    std::vector<int> drawnAt(static_cast<size_t>(image.width) * image.height, -1);
+    for (size_t k = 0; k < n; ++k)
+        for (size_t p = 0; p < drawnAt.size(); ++p)
+            if (regions[k].mask[p] && drawnAt[p] < 0) drawnAt[p] = static_cast<int>(k);
+    auto later = [&](size_t k) {
+        std::vector<uint8_t> m(drawnAt.size());
+        for (size_t p = 0; p < m.size(); ++p) m[p] = drawnAt[p] > static_cast<int>(k);
+        return m;
+    };
+    std::atomic<size_t> next{0};
+    t0 = Clock::now();
+    auto work = [&]() {
+        for (size_t k; (k = next.fetch_add(1)) < n;) {
+            const Region& own = regions[k];
+            const std::vector<uint8_t> under = later(k);
+            try {
+                meshes[k] = convertRegion(image, grownRegion(own, options.overlap, 0, under), co,
+                                          reports[k]);
+                ok[k] = 1;
+                continue;
+            } catch (const Error& e) {
+                fallbacks[k] = e.reason();
+            } catch (const std::exception& e) {
+                fallbacks[k] = e.what();
+            }
+            if (!own.holes.empty()) {
+                // Its holes are other regions, drawn on top: the region without them still
+                // paints its own pixels.
+                try {
+                    meshes[k] = convertRegion(
+                        image, grownRegion(own, options.overlap, std::numeric_limits<int>::max(), under),
+                        co, reports[k]);
+                    ok[k] = 2;
+                    fallbacks[k] = "holes filled (" + fallbacks[k] + ")";
+                    continue;
+                } catch (const std::exception& e) {
+                    fallbacks[k] += "; with holes filled: " + std::string(e.what());
+                }
+            }
+            // Without its thin parts (their pixels stay with the neighbours' overlap and the
+            // base mesh).
+            for (const int radius : {2, 5}) try {
+                const std::vector<uint8_t> core = opened(own.mask, own.width, own.height, radius);
+                RegionOptions ro;
+                ro.minArea = 16;
+                ro.minHole = std::numeric_limits<int>::max();
+                std::vector<Region> rs =
+                    extractRegions(coverageFromBits(own.width, own.height, core), ro);
+                if (rs.empty()) throw Error("nothing is left without its thin parts");
+                Region trimmed = grownRegion(rs.front(), options.overlap, 0, under);
+                meshes[k] = convertRegion(image, trimmed, co, reports[k]);
+                ok[k] = 3;
+                fallbacks[k] = "parts thinner than " + std::to_string(2 * radius + 1) +
+                               " px left out (" +
+                               std::to_string(own.pixelCount - rs.front().pixelCount) +
+                               " px): " + fallbacks[k];
+                break;
+            } catch (const std::exception& e) {
+                fallbacks[k] += "; without parts thinner than " + std::to_string(2 * radius + 1) +
+                                " px: " + std::string(e.what());
+            }
+            if (ok[k]) continue;
+            reports[k] = RegionReport{};
+            reports[k].pixels = own.pixelCount;
+            reports[k].holes = static_cast<int>(own.holes.size());
+            fallbacks[k] = "left to the base mesh (" + fallbacks[k] + ")";
+        }
+    };
+    {
+        std::vector<std::thread> pool;
+        for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+        work();
+        for (auto& t : pool) t.join();
+    }
+    rep.convertSeconds = since(t0);
+
+    Document doc;
+    doc.width = image.width;
+    doc.height = image.height;
+    t0 = Clock::now();
+    GradientMesh base = baseMesh(image, options.basePatchSize, options.convert.threads);
+    const double baseSeconds = since(t0);
+    rep.basePatches = base.patchCount();
+    doc.meshes.push_back(std::move(base));
+    for (size_t k = 0; k < n; ++k) {
+        RegionReport& rr = reports[k];
+        if (ok[k]) {
+            doc.meshes.push_back(std::move(meshes[k]));
+            if (ok[k] == 2) ++rep.filledRegions;
+            if (ok[k] == 3) ++rep.trimmedRegions;
+        } else {
+            ++rep.failedRegions;
+        }
+        cr.patches += rr.patches;
+        cr.seconds.corners += rr.seconds.corners;
+        cr.seconds.triangulate += rr.seconds.triangulate;
+        cr.seconds.topology += rr.seconds.topology;
+        cr.seconds.feature += rr.seconds.feature;
+        cr.seconds.mesh += rr.seconds.mesh;
+        rep.regionLabels.push_back(regions[k].label);
+        rep.fallbacks.push_back(fallbacks[k]);
+        cr.regions.push_back(std::move(rr));
+    }
+    cr.seconds.mesh += baseSeconds;
+    cr.patches += rep.basePatches;
+
+    // Figures over every pixel, at region borders and inside, and without the base mesh.
+    t0 = Clock::now();
+    const RenderResult full = renderDocument(doc, RenderOptions{});
+    const size_t np = static_cast<size_t>(image.width) * image.height;
+    std::vector<uint8_t> all(np, 1), border(np, 0), inner(np, 0);
+    const int w = image.width, h = image.height;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            const int l = seg.labels[k];
+            const bool b = (x > 0 && seg.labels[k - 1] != l) || (x + 1 < w && seg.labels[k + 1] != l) ||
+                           (y > 0 && seg.labels[k - w] != l) || (y + 1 < h && seg.labels[k + w] != l);
+            (b ? border : inner)[k] = 1;
+        }
+    cr.error = compareOverMask(image, full.image, all);
+    rep.border = compareOverMask(image, full.image, border);
+    rep.interior = compareOverMask(image, full.image, inner);
+    Document regionsOnly = doc;
+    regionsOnly.meshes.erase(regionsOnly.meshes.begin());
+    rep.regionUncovered =
+        regionsOnly.meshes.empty()
+            ? 1.0
+            : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all).uncovered;
+    rep.measureSeconds = since(t0);
+    rep.totalSeconds = since(tStart);
+    return doc;
+}
+
+}  // namespace gm

@@ -1,0 +1,93 @@
+// Whole images (--segment): a synthetic scene of smoothly shaded areas, one of them a ring
+// around another, converted region by region over the base mesh; the render checked for
+// coverage, seams, holes and error.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "converters/convert_segments.h"
+#include "formats/raster.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+
+using namespace gm;
+
+namespace {
+
+// 240x200: a vertical blue gradient background, an orange ring (a hole holding a green disc),
+// and a pink rounded box, all gently shaded.
+RgbaImage scene() {
+    const int W = 240, H = 200;
+    RgbaImage img(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const double px = x + 0.5, py = y + 0.5;
+            float r = 0.15f + 0.1f * float(py / H), g = 0.25f + 0.15f * float(py / H), b = 0.75f;
+            const double d = std::hypot(px - 90, py - 100);
+            if (d < 60 && d >= 28) {  // ring
+                r = 0.95f - 0.2f * float(d / 60), g = 0.55f + 0.1f * float(px / W), b = 0.1f;
+            } else if (d < 28) {      // disc in the ring's hole
+                r = 0.2f, g = 0.7f + 0.2f * float(py / H), b = 0.25f;
+            } else if (px > 165 && px < 225 && py > 40 && py < 170) {  // box
+                r = 0.9f, g = 0.45f + 0.2f * float(py / H), b = 0.6f;
+            }
+            float* p = img.at(x, y);
+            p[0] = r, p[1] = g, p[2] = b, p[3] = 1;
+        }
+    return img;
+}
+
+}  // namespace
+
+TEST_CASE("a segmented scene converts with every pixel painted and its ring keeps its hole",
+          "[convert][segment]") {
+    const RgbaImage image = scene();
+    SegmentConvertOptions o;
+    SegmentConvertReport rep;
+    const Document doc = convertSegmented(image, o, "scene", &rep);
+    INFO("regions " << rep.convert.regions.size() << ", failed " << rep.failedRegions
+                    << ", holes filled " << rep.filledRegions << ", E " << rep.convert.error.meanAbs
+                    << ", border E " << rep.border.meanAbs << ", interior E "
+                    << rep.interior.meanAbs << ", region-uncovered " << rep.regionUncovered);
+    for (size_t k = 0; k < rep.fallbacks.size(); ++k)
+        if (!rep.fallbacks[k].empty())
+            WARN("region " << k << " (" << rep.convert.regions[k].pixels << " px): " << rep.fallbacks[k]);
+    // Background, ring, disc, box (the segmentation may split the background's gradient).
+    CHECK(rep.convert.regions.size() >= 4);
+    CHECK(rep.convert.regions.size() <= 8);
+    CHECK(rep.failedRegions == 0);
+    CHECK(rep.filledRegions == 0);
+    REQUIRE(doc.meshes.size() == rep.convert.regions.size() + 1);  // + the base mesh
+    // Every pixel painted; the regions alone paint all but a few (where the base shows).
+    CHECK(rep.convert.error.uncovered == 0);
+    CHECK(rep.regionUncovered < 0.002);
+    CHECK(rep.convert.error.meanAbs < 3.0);
+    CHECK(rep.interior.meanAbs < 2.0);
+    // Borders are where segments meet: worse than the inside, but no background line.
+    CHECK(rep.border.meanAbs < 12.0);
+    // The ring is one mesh with one slit.
+    int slitted = 0;
+    for (const GradientMesh& m : doc.meshes) slitted += m.holeCount() == 1;
+    CHECK(slitted >= 1);
+    RgbaImage render = renderDocument(doc, RenderOptions{}).image;
+    writeImage(render, std::string(GRADMESH_TMP) + "/segment_scene.png");
+}
+
+TEST_CASE("an image too small to segment into anything still converts", "[convert][segment]") {
+    RgbaImage image(24, 20);
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 24; ++x) {
+            float* p = image.at(x, y);
+            p[0] = float(x) / 24, p[1] = float(y) / 20, p[2] = 0.5f, p[3] = 1;
+        }
+    SegmentConvertReport rep;
+    const Document doc = convertSegmented(image, SegmentConvertOptions{}, "tiny", &rep);
+    CHECK(rep.convert.error.uncovered == 0);
+    CHECK(rep.convert.error.meanAbs < 3.0);
+    CHECK(!doc.meshes.empty());
+}
+
+TEST_CASE("an empty image is refused", "[convert][segment]") {
+    CHECK_THROWS_AS(convertSegmented(RgbaImage(), SegmentConvertOptions{}, "empty"), Error);
+}
