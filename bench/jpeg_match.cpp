@@ -5,8 +5,8 @@
 // --min-hole as convert's defaults), E = mean absolute error per channel in 0-255 units,
 // RMSE likewise, PSNR = 20 log10(255 / RMSE). Prints one JSON object on stdout.
 //
-//   jpeg_match IMAGE [--mask M.png] [--psnr P] [--scan] [--subsampling LIST] [--tmp DIR]
-//              [--min-area N] [--min-hole N] [--max-pixels N]
+//   jpeg_match IMAGE [--mask M.png | --whole] [--psnr P] [--scan] [--curve] [--subsampling LIST]
+//              [--tmp DIR] [--min-area N] [--min-hole N] [--max-pixels N]
 //
 //   without --psnr: only the object's statistics (pixels, regions, holes, mask source)
 //   --psnr P        the smallest JPEG file whose PSNR >= P; quality is searched by bisection
@@ -14,6 +14,9 @@
 //                   checked; --scan encodes every quality and reports where PSNR is not monotone
 //   --subsampling   chroma subsampling modes to try, comma separated (default 4:2:0,4:4:4); the
 //                   answer is the smallest file over all of them
+//   --whole         measure every pixel of the image (no mask, no object: convert --segment)
+//   --curve         the rate-distortion curve: every quality 1..100 in every subsampling mode,
+//                   "curve": [{"subsampling", "points": [[quality, bytes, psnr, E], ...]}]
 //   bytes are the whole .jpg file (headers included) for the whole image, not only the object:
 //   JPEG has no notion of the mask, and any alpha is dropped (straight colour is encoded).
 #include <algorithm>
@@ -101,14 +104,14 @@ int main(int argc, char** argv) {
     std::string imagePath, maskPath, tmpDir = std::filesystem::temp_directory_path().string();
     std::string subsampling = "4:2:0,4:4:4";
     double target = NAN;
-    bool scan = false;
+    bool scan = false, whole = false, curve = false;
     RegionOptions ro;
     ro.minArea = 64;  // convert's defaults (ConvertOptions)
     ro.minHole = 16;
     uint64_t maxPixels = uint64_t(64) << 20;
     const char* usage =
-        "usage: jpeg_match IMAGE [--mask M] [--psnr P] [--scan] [--subsampling LIST] [--tmp DIR]"
-        " [--min-area N] [--min-hole N] [--max-pixels N]\n";
+        "usage: jpeg_match IMAGE [--mask M | --whole] [--psnr P] [--scan] [--curve]"
+        " [--subsampling LIST] [--tmp DIR] [--min-area N] [--min-hole N] [--max-pixels N]\n";
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         const bool more = k + 1 < argc;
@@ -118,6 +121,10 @@ int main(int argc, char** argv) {
             target = std::atof(argv[++k]);
         else if (a == "--scan")
             scan = true;
+        else if (a == "--whole")
+            whole = true;
+        else if (a == "--curve")
+            curve = true;
         else if (a == "--subsampling" && more)
             subsampling = argv[++k];
         else if (a == "--tmp" && more)
@@ -135,37 +142,45 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    if (imagePath.empty()) {
+    if (imagePath.empty() || (whole && !maskPath.empty())) {
         std::fputs(usage, stderr);
         return 2;
     }
     try {
         const RgbaImage image = readImage(imagePath, maxPixels);
-        RgbaImage maskImage;
-        if (!maskPath.empty()) maskImage = readImage(maskPath, maxPixels);
-        const ObjectMask om =
-            objectMask(image, maskPath.empty() ? nullptr : &maskImage, imagePath, maskPath);
-        const std::vector<Region> regions =
-            extractRegions(coverageFromBits(om.width, om.height, om.mask), ro);
-
         Subject s;
         s.image = &image;
-        s.mask.assign(om.mask.size(), 0);
+        const size_t n = static_cast<size_t>(image.width) * image.height;
         long pixels = 0;
         int holes = 0;
-        for (const Region& r : regions) {
-            for (size_t k = 0; k < r.mask.size(); ++k) s.mask[k] |= r.mask[k];
-            pixels += r.pixelCount;
-            holes += static_cast<int>(r.holes.size());
+        size_t regionCount = 1;
+        std::string maskSource = "whole";
+        if (whole) {
+            s.mask.assign(n, 1);
+            pixels = static_cast<long>(n);
+        } else {
+            RgbaImage maskImage;
+            if (!maskPath.empty()) maskImage = readImage(maskPath, maxPixels);
+            const ObjectMask om =
+                objectMask(image, maskPath.empty() ? nullptr : &maskImage, imagePath, maskPath);
+            const std::vector<Region> regions =
+                extractRegions(coverageFromBits(om.width, om.height, om.mask), ro);
+            s.mask.assign(om.mask.size(), 0);
+            for (const Region& r : regions) {
+                for (size_t k = 0; k < r.mask.size(); ++k) s.mask[k] |= r.mask[k];
+                pixels += r.pixelCount;
+                holes += static_cast<int>(r.holes.size());
+            }
+            regionCount = regions.size();
+            maskSource = maskSourceName(om.source);
         }
         std::ostringstream js;
         js << "{\"width\": " << image.width
            << ", \"height\": " << image.height << ", \"mask_source\": \""
-           << maskSourceName(om.source) << "\", \"regions\": " << regions.size()
+           << maskSource << "\", \"regions\": " << regionCount
            << ", \"pixels\": " << pixels << ", \"holes\": " << holes;
 
-        if (!std::isnan(target)) {
-            const size_t n = static_cast<size_t>(image.width) * image.height;
+        if (!std::isnan(target) || curve) {
             s.rgb.resize(n * 3);
             for (size_t p = 0; p < n; ++p)
                 for (int c = 0; c < 3; ++c)
@@ -174,7 +189,23 @@ int main(int argc, char** argv) {
             s.tmpBase = (std::filesystem::path(tmpDir) /
                          ("jpeg_match_" + std::to_string(::getpid())))
                             .string();
-
+        }
+        if (curve) {
+            js << ", \"curve\": [";
+            const std::vector<std::string> modes = split(subsampling);
+            for (size_t mi = 0; mi < modes.size(); ++mi) {
+                js << (mi ? ", " : "") << "{\"subsampling\": \"" << modes[mi]
+                   << "\", \"points\": [";
+                for (int q = 1; q <= 100; ++q) {
+                    const Measure m = encode(s, q, modes[mi]);
+                    js << (q > 1 ? ", " : "") << "[" << q << ", " << m.bytes << ", "
+                       << num(m.psnr) << ", " << num(m.E) << "]";
+                }
+                js << "]}";
+            }
+            js << "]";
+        }
+        if (!std::isnan(target)) {
             js << ", \"target_psnr\": " << num(target) << ", \"modes\": [";
             long bestBytes = -1;
             std::string bestMode;

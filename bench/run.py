@@ -4,10 +4,12 @@
 Converts each benchmark input with `gradmesh convert ... --report`, under /usr/bin/time for the
 peak RSS, and prints the paper's Table 1 (plus sizes and the JPEG comparison) as Markdown on
 stdout; progress goes to stderr. A row whose conversion fails shows the error and the script
-goes on.
+goes on. Between Table 1 and the fit-vs-sampled table comes the whole-image rate-distortion
+section against JPEG (bench/whole.py): --no-whole skips it, --whole runs it alone.
 
   python3 bench/run.py --build BUILD_DIR [--out DIR] [--repeat N] [--big N] [--no-colors]
-                       [--only SUBSTRING] [--timeout S]
+                       [--only SUBSTRING] [--timeout S] [--whole | --no-whole]
+                       [--whole-points E1,E2/P2,...]
 """
 import argparse
 import json
@@ -18,6 +20,9 @@ import statistics
 import subprocess
 import sys
 import time
+
+sys.dont_write_bytecode = True  # no bench/__pycache__ in the source tree
+import whole  # noqa: E402  (bench/whole.py)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SETTINGS = ["--max-error", "3", "--max-patches", "400"]
@@ -109,6 +114,11 @@ def main():
     ap.add_argument("--no-colors", action="store_true")
     ap.add_argument("--only", default="")
     ap.add_argument("--timeout", type=int, default=3600)
+    ap.add_argument("--whole", action="store_true", help="only the whole-image section")
+    ap.add_argument("--no-whole", action="store_true", help="skip the whole-image section")
+    ap.add_argument("--whole-points", default="",
+                    help="the section's points: E (--max-error) or E/P (and --max-patches P), "
+                         "comma separated, e.g. 2,8,2/25")
     a = ap.parse_args()
 
     build = os.path.abspath(a.build)
@@ -119,6 +129,9 @@ def main():
     gen = os.path.join(build, "bench", "samples")
     os.makedirs(out, exist_ok=True)
     samples = os.path.join(ROOT, "samples")
+    if a.whole:
+        print_whole(a, gm, jm, samples, out)
+        return
 
     git = lambda *c: subprocess.run(["git", "-C", ROOT] + list(c), stdout=subprocess.PIPE,
                                     stderr=subprocess.DEVNULL, text=True).stdout.rstrip()
@@ -252,8 +265,27 @@ def main():
     print()
     print(table(header, body))
 
-    if a.no_colors:
-        return
+    if not a.no_whole:
+        print_whole(a, gm, jm, samples, out)
+    if not a.no_colors:
+        colors_table(a, gm, out, S, G)
+
+
+def print_whole(a, gm, jm, samples, out):
+    if a.whole:  # alone: say what was measured
+        git = lambda *c: subprocess.run(["git", "-C", ROOT] + list(c), stdout=subprocess.PIPE,
+                                        stderr=subprocess.DEVNULL, text=True).stdout.rstrip()
+        dirty = [l[3:] for l in git("status", "--porcelain").splitlines() if l[3:]]
+        print("Release build %s. Source tree at the start: commit %s%s; gradmesh built %s, run %s."
+              % (os.path.dirname(os.path.dirname(gm)), git("rev-parse", "--short", "HEAD"),
+                 " + uncommitted changes in " + ", ".join(dirty) if dirty else "",
+                 time.strftime("%Y-%m-%d %H:%M", time.localtime(os.path.getmtime(gm))),
+                 time.strftime("%Y-%m-%d %H:%M")))
+    points = [x for x in a.whole_points.split(",") if x.strip()] or None
+    whole.section(run_convert, fmt, table, log, gm, jm, samples, out, a.only, a.timeout, points)
+
+
+def colors_table(a, gm, out, S, G):
     # Fit vs sampled colours: patches each needs to reach the E that fit reaches at 400 patches.
     log("== fit vs sampled colours")
     crows = []

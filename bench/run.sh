@@ -9,6 +9,9 @@
 # in it when missing. Environment: BENCH_REPEAT (runs per row, default 1), BENCH_BIG (side of
 # the upscaled apple, default 4096; 0 skips that row), BENCH_ONLY (rows whose label contains
 # it), BENCH_NO_COLORS=1 (skip the fit vs sampled table), BENCH_TIMEOUT (s per conversion).
+# After Table 1, the whole-image rate-distortion section against JPEG (bench/whole.py):
+# BENCH_NO_WHOLE=1 skips it, BENCH_ONLY_WHOLE=1 runs only it, BENCH_WHOLE_POINTS=2,8,2/25 sets
+# its points (E = --max-error E; E/P = --max-error E --max-patches P).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -25,7 +28,8 @@ if [ ! -x "$build/converters/gradmesh" ]; then
     ninja -C "$build" gradmesh >&2
   fi
 fi
-if [ ! -x "$build/bench/make_samples" ] || [ ! -x "$build/bench/jpeg_match" ]; then
+if [ ! -x "$build/bench/make_samples" ] || [ ! -x "$build/bench/jpeg_match" ] ||
+   ! { "$build/bench/jpeg_match" 2>&1 || true; } | grep -q -- --curve; then  # older: no --curve
   echo "== building the bench tools in $build" >&2
   ninja -C "$build" make_samples jpeg_match >&2
 fi
@@ -33,4 +37,7 @@ fi
 args=(--build "$build" --repeat "${BENCH_REPEAT:-1}" --big "${BENCH_BIG:-4096}"
       --only "${BENCH_ONLY:-}" --timeout "${BENCH_TIMEOUT:-3600}")
 [ -n "${BENCH_NO_COLORS:-}" ] && args+=(--no-colors)
+[ -n "${BENCH_NO_WHOLE:-}" ] && args+=(--no-whole)
+[ -n "${BENCH_ONLY_WHOLE:-}" ] && args+=(--whole)
+[ -n "${BENCH_WHOLE_POINTS:-}" ] && args+=("--whole-points=$BENCH_WHOLE_POINTS")
 exec python3 bench/run.py "${args[@]}"

@@ -1,0 +1,266 @@
+"""Whole-image rate-distortion against JPEG (the paper's Fig. 10 comparison), for bench/run.py.
+
+For each image: `gradmesh convert IMAGE --segment --compact --max-error E [--max-patches P]
+--report R.json` at several points (E, P) (the whole image, segmented into regions, every pixel
+covered), and JPEG's curve on
+the same image from `jpeg_match IMAGE --whole --curve` (every quality 1..100, 4:2:0 and 4:4:4,
+PSNR over all pixels). For each mesh, JPEG's bytes at the mesh's PSNR are interpolated on
+JPEG's curve (the smallest-file frontier over both subsamplings, log bytes linear in PSNR), and
+the ratio is the zipped compact .gmb over those bytes. See bench/README.md.
+"""
+import io
+import json
+import math
+import os
+import struct
+import subprocess
+import zipfile
+import zlib
+
+IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png"]
+# Points "E" (--max-error E, default budget) or "E/P" (also --max-patches P, per region). E moves
+# the size only while the default budget (400 patches per region) is not what stops refinement;
+# on fruits and astronaut it is, so the smaller budgets give the low-rate end of the curve.
+POINTS = ["2/10", "2/25", "2/50", "2/100", "2/200", "12", "8", "4", "2"]  # about rising size
+
+# The whole-image mode of convert. The one line to change if --segment's arguments change.
+SEGMENT_ARGS = ["--segment"]
+# Stand-in while convert has no --segment: the whole image as one rectangular region, through a
+# mask that is white everywhere (written here), and this budget where a point gives none. Only a
+# development aid; the output says so.
+STANDIN_ARGS = ["--max-patches", "1500"]
+
+
+def has_segment(gm):
+    p = subprocess.run([gm, "convert", "--help"], stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    return "--segment" in p.stdout
+
+
+def white_png(path, w, h):
+    """An 8-bit grey PNG, white everywhere (no PIL here)."""
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+    raw = b"".join(b"\x00" + b"\xff" * w for _ in range(h))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+                + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def zipped_size(path):
+    """Bytes of a .zip archive (deflate, level 9) holding the file, headers included."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED, compresslevel=9) as z:
+        z.write(path, os.path.basename(path))
+    with open(path + ".zip", "wb") as f:
+        f.write(buf.getvalue())
+    return len(buf.getvalue())
+
+
+def jpeg_curve(jm, image):
+    p = subprocess.run([jm, image, "--whole", "--curve"], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        return {"error": p.stderr.strip() or "exit code %d" % p.returncode}
+    return json.loads(p.stdout)
+
+
+def frontier(curve):
+    """JPEG's smallest files: points (bytes, psnr, quality, subsampling) over every mode, kept when
+    no smaller file has a PSNR as high; increasing in both bytes and PSNR."""
+    pts = sorted((b, ps, q, m["subsampling"]) for m in curve for q, b, ps, _ in m["points"])
+    out = []
+    for p in pts:
+        if not out or p[1] > out[-1][1]:
+            if out and p[0] == out[-1][0]:
+                out[-1] = p
+            else:
+                out.append(p)
+    return out
+
+
+def jpeg_at(front, psnr):
+    """(interpolated bytes, how) at this PSNR, and the smallest real file reaching it or None.
+    Interpolation: log(bytes) linear in PSNR between the two frontier points around it."""
+    if not front:
+        return None, "no curve", None
+    reach = next((p for p in front if p[1] >= psnr), None)
+    if psnr < front[0][1]:
+        return None, "below q1", reach
+    if psnr > front[-1][1]:
+        return None, "above q100", None
+    for lo, hi in zip(front, front[1:]):
+        if lo[1] <= psnr <= hi[1]:
+            t = (psnr - lo[1]) / (hi[1] - lo[1])
+            b = math.exp(math.log(lo[0]) + t * (math.log(hi[0]) - math.log(lo[0])))
+            return b, "q%d %s – q%d %s" % (lo[2], lo[3], hi[2], hi[3]), reach
+    return float(front[0][0]), "q%d %s" % (front[0][2], front[0][3]), reach
+
+
+def plot_svg(path, series):
+    """A small log-bytes vs PSNR chart: per image, JPEG's frontier (line) and the meshes (dots)."""
+    mesh = [p for s in series for p in s["mesh"]]
+    top = max(p[1] for p in mesh) + 6 if mesh else 1e9  # JPEG's curve up to 6 dB above the meshes
+    series = [dict(s, jpeg=[p for p in s["jpeg"] if p[1] <= top]) for s in series]
+    pts = [(p[0], p[1]) for s in series for p in s["jpeg"] + s["mesh"]]
+    if not pts:
+        return
+    W, H, L, B, R, T = 640, 420, 60, 40, 150, 20
+    x0, x1 = math.floor(min(p[1] for p in pts)), math.ceil(max(p[1] for p in pts))
+    step = 1 if x1 - x0 <= 12 else 2 if x1 - x0 <= 24 else 5
+    y0 = math.floor(math.log10(min(p[0] for p in pts)) * 4) / 4
+    y1 = math.ceil(math.log10(max(p[0] for p in pts)) * 4) / 4
+    X = lambda v: L + (v - x0) / max(x1 - x0, 1e-9) * (W - L - R)
+    Y = lambda b: H - B - (math.log10(b) - y0) / max(y1 - y0, 1e-9) * (H - B - T)
+    o = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif"'
+         ' font-size="11"><rect width="100%%" height="100%%" fill="white"/>' % (W, H)]
+    for d in range(int(x0), int(x1) + 1, step):
+        o.append('<line x1="%.1f" y1="%d" x2="%.1f" y2="%d" stroke="#ddd"/><text x="%.1f" y="%d" '
+                 'text-anchor="middle">%d</text>' % (X(d), T, X(d), H - B, X(d), H - B + 14, d))
+    for e in range(int(math.floor(y0)), int(math.ceil(y1)) + 1):
+        for m in (1, 2, 5):
+            b = m * 10 ** e
+            if y0 <= math.log10(b) <= y1:
+                o.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/><text x="%d" '
+                         'y="%.1f" text-anchor="end">%s</text>' % (
+                             L, Y(b), W - R, Y(b), L - 4, Y(b) + 4,
+                             "%g KB" % (b / 1000) if b >= 1000 else "%d B" % b))
+    o.append('<text x="%d" y="%d" text-anchor="middle">PSNR (dB), all pixels</text>' % (
+        (L + W - R) / 2, H - 6))
+    colours = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"]
+    for k, s in enumerate(series):
+        c = colours[k % len(colours)]
+        line = " ".join("%.1f,%.1f" % (X(p[1]), Y(p[0])) for p in s["jpeg"])
+        if line:
+            o.append('<polyline points="%s" fill="none" stroke="%s"/>' % (line, c))
+        for p in s["mesh"]:
+            o.append('<circle cx="%.1f" cy="%.1f" r="3.5" fill="%s"/>' % (X(p[1]), Y(p[0]), c))
+        o.append('<text x="%d" y="%d" fill="%s">%s</text>' % (W - R + 10, T + 12 + 30 * k, c,
+                                                              s["name"]))
+        o.append('<text x="%d" y="%d" fill="%s" font-size="9">line JPEG, dots .gmb.zip</text>' % (
+            W - R + 10, T + 24 + 30 * k, c))
+    o.append("</svg>")
+    with open(path, "w") as f:
+        f.write("\n".join(o) + "\n")
+
+
+def parse_point(text):
+    """"E" or "E/P" -> (E, P or None)."""
+    e, _, p = text.strip().partition("/")
+    return float(e), (int(p) if p else None)
+
+
+def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, points=None):
+    """Prints the whole-image section (Markdown) on stdout. points: strings "E" or "E/P"."""
+    points = [parse_point(t) for t in (points or POINTS)]
+    segment = has_segment(gm)
+    body, series, curves = [], [], []
+    for name in IMAGES:
+        label = name + " (whole)"
+        if only not in label:
+            continue
+        image = os.path.join(samples, name)
+        stem = "whole_" + os.path.splitext(name)[0]
+        log("== %s: JPEG curve" % label)
+        jc = jpeg_curve(jm, image)
+        front = [] if "error" in jc else frontier(jc["curve"])
+        if "error" in jc:
+            curves.append("- %s: JPEG curve FAILED: %s" % (name, jc["error"]))
+        else:
+            curves.append("- %s (%d×%d): JPEG from %s B (q1, %s dB) to %s B (q100, %s dB); "
+                          "the frontier has %d of %d encodes" % (
+                              name, jc["width"], jc["height"], front[0][0], fmt(front[0][1]),
+                              front[-1][0], fmt(front[-1][1]), len(front),
+                              sum(len(m["points"]) for m in jc["curve"])))
+        extra = SEGMENT_ARGS
+        if not segment:
+            if "error" in jc:
+                body.append([name] + ["—"] * 13 + ["FAILED: no size for the stand-in mask"])
+                continue
+            mask = os.path.join(out, stem + "_white.png")
+            white_png(mask, jc["width"], jc["height"])
+            extra = ["--mask", mask]
+        mesh_pts = []
+        for e, budget in points:
+            base = os.path.join(out, "%s_E%g%s" % (stem, e, "_P%d" % budget if budget else ""))
+            gmb, rep = base + ".gmb", base + ".json"
+            args = ["--compact", "--max-error", "%g" % e]
+            if budget:
+                args += ["--max-patches", str(budget)]
+            elif not segment:
+                args += STANDIN_ARGS
+            ok, r, wall, _ = run_convert(gm, image, None, gmb, rep, extra + args, timeout)
+            bcell = str(budget) if budget else "default"
+            if not ok:
+                log("   E %g, budget %s failed: %s" % (e, bcell, r))
+                body.append([name, "%g" % e, bcell] + ["—"] * 9 +
+                            ["%s (wall, failed)" % fmt(wall), "—", "FAILED: %s" % r])
+                continue
+            err = r["error"]
+            psnr = err["psnr"]
+            compact = os.path.getsize(gmb)
+            zipped = zipped_size(gmb)
+            regions = r.get("segments", {}).get("count", len(r["regions"]))
+            jb, how, reach = jpeg_at(front, psnr)
+            if jb is not None:
+                jcell, ratio = "%d (%s)" % (round(jb), how), "%.2f" % (zipped / jb)
+            elif how == "below q1" and reach:
+                jcell = "< %d (q1 %s: %s dB)" % (reach[0], reach[3], fmt(reach[1]))
+                ratio = "> %.2f" % (zipped / reach[0])
+            elif how == "above q100":
+                jcell = "not reached (q100: %d B, %s dB)" % (front[-1][0], fmt(front[-1][1]))
+                ratio = "< %.2f" % (zipped / front[-1][0])
+            else:
+                jcell, ratio = how, "—"
+            rcell = "%d (q%d %s)" % (reach[0], reach[2], reach[3]) if reach else "—"
+            notes = []
+            if compact != r["bytes"]["gmb_compact"]:
+                notes.append("report's gmb_compact %d B" % r["bytes"]["gmb_compact"])
+            seg = r.get("segments", {})
+            if seg.get("failed"):
+                notes.append("%d region(s) failed (left to the base mesh)" % seg["failed"])
+            if seg.get("holes_filled"):
+                notes.append("%d converted with holes filled" % seg["holes_filled"])
+            if seg.get("base_patches"):
+                notes.append("base mesh %d patches" % seg["base_patches"])
+            if seg.get("region_uncovered"):
+                notes.append("%.2f %% of pixels only under the base mesh" %
+                             (100 * seg["region_uncovered"]))
+            notes.append("wall with --report %s s" % fmt(wall))
+            log("   E %g, budget %s: %d regions, %d patches, PSNR %.2f, %d B zipped, JPEG %s, "
+                "%.1f s" % (e, bcell, regions, r["patches"], psnr, zipped, jcell,
+                            r["io_seconds"]["end_to_end"]))
+            mesh_pts.append((zipped, psnr))
+            bcell = str(r.get("max_patches", budget)) + (
+                "" if budget else " (default)" if segment else " (stand-in)")
+            body.append([name, "%g" % e, bcell, str(regions), str(r["patches"]), fmt(err["E"]),
+                         fmt(psnr), str(compact), str(zipped), jcell, ratio, rcell,
+                         fmt(r["io_seconds"]["end_to_end"]),
+                         "%.3f %%" % (100 * err["uncovered"]), "; ".join(notes)])
+        series.append({"name": name, "jpeg": [(p[0], p[1]) for p in front], "mesh": mesh_pts})
+
+    chart = os.path.join(out, "whole_rd.svg")
+    plot_svg(chart, series)
+    print()
+    print("### Whole image against JPEG (Fig. 10)")
+    print()
+    if segment:
+        print("Each row: `gradmesh convert IMAGE %s --compact --max-error E [--max-patches P] "
+              "--report R.json` (E target, patch budget P per region)." % " ".join(SEGMENT_ARGS))
+    else:
+        print("**STAND-IN, not `--segment`** (this gradmesh has no `--segment`): each row is "
+              "`gradmesh convert IMAGE --mask WHITE.png --compact --max-error E --max-patches P` "
+              "with a mask that is white everywhere, so the whole image is one rectangular "
+              "region; where the point gives no P: `%s`." % " ".join(STANDIN_ARGS))
+    print("PSNR, E and uncovered are over all pixels of the image. JPEG: `jpeg_match IMAGE "
+          "--whole --curve` (qualities 1–100, 4:2:0 and 4:4:4, OpenImageIO/libjpeg); its bytes "
+          "at the mesh's PSNR are interpolated (log bytes linear in PSNR) on the smallest-file "
+          "frontier; ratio = zipped `.gmb` / those bytes (< 1: the mesh is smaller). "
+          "Chart: `%s`." % chart)
+    print()
+    print("\n".join(curves))
+    print()
+    print(table(["image", "E target", "patch budget", "regions", "patches", "E", "PSNR",
+                 "compact .gmb (B)", ".gmb zipped (B)", "JPEG at same PSNR (B, interpolated)",
+                 "zipped / JPEG", "smallest JPEG ≥ PSNR (B)", "end-to-end (s)", "uncovered",
+                 "notes"], body))
