@@ -159,6 +159,8 @@ def main():
         ("disc (synthetic, 480², no holes)", G("disc.png"), None),
         ("amulet (disc with 21 holes)", G("amulet.png"), None),
         ("annulus (1 hole)", G("annulus.png"), None),
+        ("pic1.png black rectangle (GrabCut, 7 holes)", S("pic1.png"), None),
+        ("HappyFish.jpg body (GrabCut, eye hole)", S("HappyFish.jpg"), None),
     ]
     rows = [r for r in rows if a.only in r[0]]
 
