@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <set>
 #include <functional>
 #include <string>
 #include <utility>
@@ -339,6 +340,7 @@ TriMesh triangulateRegion(const RgbaImage& image, const Region& region,
     };
     for (int round = 0; round < 100; ++round) {
         std::vector<Vec2> steiner;
+        std::set<std::pair<int, int>> splitEdges;  // by vertex ids: the same on every run
         for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
             if (!inDomain(f)) continue;
             const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
@@ -349,11 +351,11 @@ TriMesh triangulateRegion(const RgbaImage& image, const Region& region,
                 continue;
             }
             for (int i = 0; i < 3; ++i) {
-                const Cdt::Face_handle g = f->neighbor(i);
-                // Each edge once: from the face with the smaller address, or the only domain face.
-                if (cdt.is_constrained(Cdt::Edge(f, i)) || (inDomain(g) && std::less<const void*>()(&*g, &*f))) continue;
+                if (cdt.is_constrained(Cdt::Edge(f, i))) continue;
                 const int u = f->vertex(Cdt::ccw(i))->info(), v = f->vertex(Cdt::cw(i))->info();
-                if (shareSideOrHole(u, v)) steiner.push_back(0.5 * (pts[u] + pts[v]));
+                // Each edge once (not by face address: that would differ from run to run).
+                if (shareSideOrHole(u, v) && splitEdges.insert({std::min(u, v), std::max(u, v)}).second)
+                    steiner.push_back(0.5 * (pts[u] + pts[v]));
             }
         }
         if (steiner.empty()) break;
