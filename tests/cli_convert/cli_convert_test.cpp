@@ -528,7 +528,7 @@ TEST_CASE("mesh inputs reject the image-only options", "[cli_convert]") {
     }
 }
 
-TEST_CASE("--segment options: bad combinations are usage errors", "[cli_convert][segment]") {
+TEST_CASE("segment mode: bad option combinations are usage errors", "[cli_convert][segment]") {
     const fs::path d = tmpDir("segmentargs");
     writePng(opaqueRamp(60, 50), d / "ramp.png");
     writePng(ellipseMask(60, 50), d / "mask.png");
@@ -553,7 +553,7 @@ TEST_CASE("--segment options: bad combinations are usage errors", "[cli_convert]
     checkFailure(r, 2, {"--segment", "raster inputs only"});
 }
 
-TEST_CASE("--segment converts a whole image with every pixel painted", "[cli_convert][segment]") {
+TEST_CASE("segment mode converts a whole image with every pixel painted", "[cli_convert][segment]") {
     const fs::path d = tmpDir("segmentrun");
     const std::string in = std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg";
     const Run r = gradmesh("convert " + q(in) + " --segment -o " + q(d / "fish.gmb") +
