@@ -333,6 +333,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         s
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices
+          << ", \"tip_corners\": " << (r.tipCorners ? "true" : "false")
           << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns
           << ", " << r.rows << "], \"patches\": " << r.patches
           << ", \"feature_solves\": " << r.featureSolves

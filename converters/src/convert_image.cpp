@@ -72,21 +72,38 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     rr.pixels = region.pixelCount;
     rr.holes = static_cast<int>(region.holes.size());
     auto t0 = Clock::now();
-    const RegionCorners corners = findCorners(region);
+    RegionCorners corners = findCorners(region);
     rr.seconds.corners = since(t0);
 
-    t0 = Clock::now();
     TriangulateOptions to;
     // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
     // 4096² object needs no finer triangulation than a 1024² one.
     to.sampleFraction = std::min(options.sampleFraction,
                                  double(options.maxSamples) / std::max(1, region.pixelCount));
-    TriMesh tri = triangulateRegion(image, region, corners, to);
-    rr.seconds.triangulate = since(t0);
-
-    t0 = Clock::now();
-    const TopologyMap topo = buildTopologyMapRefining(tri, corners.px, corners.py);
-    rr.seconds.topology = since(t0);
+    TriMesh tri;
+    TopologyMap topo;
+    for (int attempt = 0;; ++attempt) {
+        t0 = Clock::now();
+        tri = triangulateRegion(image, region, corners, to);
+        rr.seconds.triangulate += since(t0);
+        t0 = Clock::now();
+        try {
+            topo = buildTopologyMapRefining(tri, corners.px, corners.py);
+            rr.seconds.topology += since(t0);
+            break;
+        } catch (const SqueezeError&) {
+            // A long thin part between two corners: once more with the corners at the
+            // region's sharpest tips, so thin parts end at corners.
+            rr.seconds.topology += since(t0);
+            if (attempt > 0) throw;
+            t0 = Clock::now();
+            const RegionCorners tips = findTipCorners(region);
+            rr.seconds.corners += since(t0);
+            if (tips.index == corners.index) throw;
+            corners = tips;
+            rr.tipCorners = true;
+        }
+    }
     rr.triangles = static_cast<int>(tri.triangles.size());
     rr.vertices = static_cast<int>(tri.vertices.size());
     rr.mapRefinedVertices = topo.stats.refinedVertices;

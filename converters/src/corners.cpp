@@ -47,6 +47,7 @@ double arcLength(const std::vector<Vec2>& p, int i, int j) {
     return len;
 }
 
+RegionCorners labelCorners(const std::vector<Vec2>& p, const std::array<int, 4>& sorted);
 }  // namespace
 
 RegionCorners findCorners(const Region& region, const CornerOptions& options) {
@@ -134,6 +135,44 @@ RegionCorners findCorners(const Region& region, const CornerOptions& options) {
         std::sort(sorted.begin(), sorted.end());
     }
 
+    return labelCorners(p, sorted);
+}
+
+RegionCorners findTipCorners(const Region& region, const CornerOptions& options) {
+    const std::vector<Vec2>& p = region.outer.points;
+    const int n = static_cast<int>(p.size());
+    if (n < 4)
+        throw Error("the region's outer loop has " + std::to_string(n) +
+                    " points; four corners need at least 4");
+    double perimeter = 0;
+    std::vector<double> at(n + 1, 0);  // arc length from point 0
+    for (int k = 0; k < n; ++k) at[k + 1] = perimeter += norm(p[(k + 1) % n] - p[k]);
+    // Sharpness: the region's share of the disk; the sharpest convex tips first.
+    std::vector<double> share(n);
+    const double disk = kPi * options.radius * options.radius;
+    for (int k = 0; k < n; ++k) share[k] = diskArea(p, p[k], options.radius) / disk;
+    std::vector<int> order(n);
+    for (int k = 0; k < n; ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return share[a] < share[b]; });
+    auto apart = [&](int a, int b) {
+        const double d = std::abs(at[a] - at[b]);
+        return std::min(d, perimeter - d);
+    };
+    std::vector<int> chosen;
+    for (int k : order) {
+        bool ok = true;
+        for (int c : chosen) ok = ok && apart(k, c) >= perimeter / 12;
+        if (ok) chosen.push_back(k);
+        if (chosen.size() == 4) break;
+    }
+    if (chosen.size() < 4) return findCorners(region, options);
+    std::array<int, 4> sorted{chosen[0], chosen[1], chosen[2], chosen[3]};
+    std::sort(sorted.begin(), sorted.end());
+    return labelCorners(p, sorted);
+}
+
+namespace {
+RegionCorners labelCorners(const std::vector<Vec2>& p, const std::array<int, 4>& sorted) {
     // sorted is in loop order, which is top-left → top-right → bottom-right → bottom-left for
     // some rotation; pick the one whose top and bottom sides point most nearly along +x.
     int bestShift = 0;
@@ -155,5 +194,6 @@ RegionCorners findCorners(const Region& region, const CornerOptions& options) {
     rc.py = std::max(rc.sideLength[1], rc.sideLength[3]);
     return rc;
 }
+}  // namespace
 
 }  // namespace gm

@@ -28,7 +28,7 @@ void requireNoSqueezedTriangle(const TriMesh& mesh, const ParamMap& map) {
         const Vec2 a = map.uv[t[0]], b = map.uv[t[1]], c = map.uv[t[2]];
         if ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) <= tiny) {
             const Vec2 p = mesh.vertices[t[0]];
-            throw Error("the parameterisation squeezes a thin part near (" +
+            throw SqueezeError("the parameterisation squeezes a thin part near (" +
                         std::to_string(static_cast<int>(p.x)) + ", " +
                         std::to_string(static_cast<int>(p.y)) +
                         ") to zero area (a long thin part with both flanks on one side of the "

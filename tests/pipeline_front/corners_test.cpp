@@ -78,3 +78,39 @@ TEST_CASE("a loop too small for four corners is reported", "[corners]") {
     region.outer.points = {{0, 0}, {1, 0}, {0, 1}};
     CHECK_THROWS_AS(findCorners(region), Error);
 }
+
+TEST_CASE("tip corners sit at the ends of thin spikes", "[corners]") {
+    // A disc with four thin spikes at uneven angles: the sharpest tips are the spikes' ends,
+    // where findCorners (bounding-box based) would put only some of the corners.
+    const int w = 256, h = 256;
+    const double angles[4] = {10, 80, 200, 260};
+    auto inside = [&](double x, double y) {
+        const double dx = x - 128, dy = y - 128;
+        if (dx * dx + dy * dy < 40 * 40) return true;
+        for (double a : angles) {
+            const double c = std::cos(a * kPi / 180), s = std::sin(a * kPi / 180);
+            const double along = dx * c + dy * s, across = -dx * s + dy * c;
+            if (along > 0 && along < 110 && std::abs(across) < 3) return true;
+        }
+        return false;
+    };
+    const Region region = onlyRegion(w, h, test::rasterize(w, h, inside));
+    const RegionCorners rc = findTipCorners(region);
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 found = region.outer.points[rc.index[k]];
+        double nearest = 1e9;
+        for (double a : angles) {
+            const Vec2 tip{128 + 110 * std::cos(a * kPi / 180), 128 + 110 * std::sin(a * kPi / 180)};
+            nearest = std::min(nearest, norm(found - tip));
+        }
+        INFO("corner " << k << " at (" << found.x << ", " << found.y << ")");
+        CHECK(nearest < 5);
+    }
+    // Distinct, in loop order.
+    CHECK(rc.index[0] != rc.index[1]);
+    CHECK(rc.index[1] != rc.index[2]);
+    CHECK(rc.index[2] != rc.index[3]);
+    double sum = 0;
+    for (double s : rc.sideLength) sum += s;
+    CHECK(sum > 4 * 2 * 100);  // the sides run along the spikes
+}

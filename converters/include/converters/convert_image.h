@@ -40,6 +40,7 @@ struct RegionReport {
     int pixels = 0, holes = 0;
     int triangles = 0, vertices = 0, flippedTriangles = 0;
     int mapRefinedVertices = 0;  // added by refinement where the slit map folded
+    bool tipCorners = false;     // corners moved to the sharpest tips (the first choice squeezed)
     int columns = 0, rows = 0, patches = 0;
     StageSeconds seconds;
     FitError error;

@@ -32,4 +32,11 @@ struct RegionCorners {
 // than 4 points.
 RegionCorners findCorners(const Region& region, const CornerOptions& options = {});
 
+// The alternative when the map squeezes a long thin part (a leg between two corners, both
+// flanks on one side): the four sharpest convex tips of the outer loop (smallest share of the
+// radius-r disk inside the region), each at least 1/12 of the perimeter from the others, so
+// that thin parts end at corners and their flanks fall on two sides. findCorners when fewer
+// than four such tips exist.
+RegionCorners findTipCorners(const Region& region, const CornerOptions& options = {});
+
 }  // namespace gm

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "converters/tri_mesh.h"
+#include "meshcore/error.h"
 
 namespace gm {
 
@@ -36,6 +37,12 @@ struct TopologyMap {
     std::vector<SlitInfo> slits;  // one per TriMesh::holeLoops entry, same order
     TopologyMapStats stats;
     std::vector<int> folded;     // buildSlitMapOrFolds only: triangles the map still folds
+};
+
+// Thrown when a map squeezes a triangle to zero area (a long thin part whose flanks lie on one
+// side of the rectangle); other corners may avoid it.
+struct SqueezeError : Error {
+    using Error::Error;
 };
 
 // The stage entry point. Without holes: the outer loop onto the rectangle's sides by arc length
