@@ -334,6 +334,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices
           << ", \"tip_corners\": " << (r.tipCorners ? "true" : "false")
+          << ", \"part\": " << jsonString(r.part)
           << ", \"flipped_triangles\": " << r.flippedTriangles << ", \"grid\": [" << r.columns
           << ", " << r.rows << "], \"patches\": " << r.patches
           << ", \"feature_solves\": " << r.featureSolves

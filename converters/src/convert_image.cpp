@@ -148,6 +148,61 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     return std::move(refined.mesh);
 }
 
+namespace {
+// The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
+// thin parts, four corners): its core without the parts thinner than 2·radius+1 px, and each
+// thin part on its own, the core reaching a pixel under them. Returns the meshes, core first;
+// throws what convertRegion throws when no radius works for the core.
+std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& region,
+                                         const ConvertOptions& options,
+                                         std::vector<RegionReport>& reports) {
+    const int w = region.width, h = region.height;
+    std::string last;
+    for (const int radius : {2, 4, 7}) {
+        reports.clear();
+        std::vector<GradientMesh> meshes;
+        RegionOptions ro;
+        ro.minArea = 1;
+        ro.minHole = options.minHole;
+        ro.outerLevel = options.outerLevel;
+        const std::vector<uint8_t> core = openMask(region.mask, w, h, radius);
+        std::vector<Region> cores = extractRegions(coverageFromBits(w, h, core), ro);
+        if (cores.empty()) break;
+        std::vector<uint8_t> rest(region.mask.size());
+        for (size_t k = 0; k < rest.size(); ++k) rest[k] = region.mask[k] && !cores.front().mask[k];
+        RegionReport rr;
+        try {
+            meshes.push_back(convertRegion(
+                image, growRegionInto(cores.front(), 1, options.minHole, rest, options.outerLevel),
+                options, rr));
+        } catch (const SqueezeError& e) {
+            last = e.reason();
+            continue;
+        }
+        rr.part = "core";
+        reports.push_back(rr);
+        // The thin parts (and whatever else the opening removed), each its own mesh on top.
+        bool restLeft = false;
+        for (uint8_t v : rest) restLeft = restLeft || v;
+        if (restLeft)
+            for (const Region& piece : extractRegions(coverageFromBits(w, h, rest), ro)) {
+                RegionReport pr;
+                try {
+                    meshes.push_back(convertRegion(image, piece, options, pr));
+                    pr.part = "thin part";
+                } catch (const Error& e) {
+                    pr = RegionReport{};
+                    pr.pixels = piece.pixelCount;
+                    pr.part = "thin part left uncovered: " + e.reason();
+                }
+                reports.push_back(pr);
+            }
+        return meshes;
+    }
+    throw SqueezeError(last.empty() ? "no core left without the region's thin parts" : last);
+}
+}  // namespace
+
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report) {
     ConvertReport local;
@@ -173,22 +228,29 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     doc.width = image.width;
     doc.height = image.height;
     for (const Region& region : regions) {
-        RegionReport rr;
+        std::vector<RegionReport> rrs(1);
         try {
-            doc.meshes.push_back(convertRegion(image, region, options, rr));
+            try {
+                doc.meshes.push_back(convertRegion(image, region, options, rrs[0]));
+            } catch (const SqueezeError&) {
+                for (GradientMesh& m : convertInParts(image, region, options, rrs))
+                    doc.meshes.push_back(std::move(m));
+            }
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error("region " + std::to_string(rep.regions.size()) + " " + regionLabel(region) +
                             ": " + e.reason(),
                         imageName);
         }
-        rep.patches += rr.patches;
-        rep.seconds.corners += rr.seconds.corners;
-        rep.seconds.triangulate += rr.seconds.triangulate;
-        rep.seconds.topology += rr.seconds.topology;
-        rep.seconds.feature += rr.seconds.feature;
-        rep.seconds.mesh += rr.seconds.mesh;
-        rep.regions.push_back(std::move(rr));
+        for (RegionReport& rr : rrs) {
+            rep.patches += rr.patches;
+            rep.seconds.corners += rr.seconds.corners;
+            rep.seconds.triangulate += rr.seconds.triangulate;
+            rep.seconds.topology += rr.seconds.topology;
+            rep.seconds.feature += rr.seconds.feature;
+            rep.seconds.mesh += rr.seconds.mesh;
+            rep.regions.push_back(std::move(rr));
+        }
     }
     // Measured over the regions' pixels: dropped specks and filled holes are not the object.
     ObjectMask measured = mask;

@@ -20,66 +20,6 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The region's pixels grown by `radius` pixels (a square neighbourhood), within the image.
-std::vector<uint8_t> dilated(const std::vector<uint8_t>& mask, int w, int h, int radius) {
-    std::vector<uint8_t> rows(mask.size(), 0), out(mask.size(), 0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            uint8_t v = 0;
-            for (int d = -radius; d <= radius && !v; ++d) {
-                const int xx = x + d;
-                if (xx >= 0 && xx < w) v = mask[static_cast<size_t>(y) * w + xx];
-            }
-            rows[static_cast<size_t>(y) * w + x] = v;
-        }
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            uint8_t v = 0;
-            for (int d = -radius; d <= radius && !v; ++d) {
-                const int yy = y + d;
-                if (yy >= 0 && yy < h) v = rows[static_cast<size_t>(yy) * w + x];
-            }
-            out[static_cast<size_t>(y) * w + x] = v;
-        }
-    return out;
-}
-
-// The geometry region of `own`: its outline traced around its pixels dilated by `overlap` into
-// `under` (its holes shrink by as much; holes under minHole pixels filled), with `own`'s pixels
-// as the mask the colours are fitted to.
-// `under`: the pixels it may grow into (those of regions drawn after it, on top).
-Region grownRegion(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under) {
-    if (overlap <= 0 && minHole <= 0) return own;
-    RegionOptions ro;
-    ro.minArea = 1;
-    ro.minHole = minHole;
-    std::vector<uint8_t> grown = own.mask;
-    if (overlap > 0) {
-        const std::vector<uint8_t> d = dilated(own.mask, own.width, own.height, overlap);
-        for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
-    }
-    std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, grown), ro);
-    if (rs.empty()) throw Error("the grown region vanished");
-    Region g = std::move(rs.front());  // the largest: grown from one component, it is one
-    g.label = own.label;
-    g.mask = own.mask;
-    g.pixelCount = own.pixelCount;
-    return g;
-}
-
-// The region's pixels less its parts thinner than 2·radius+1 pixels (a morphological opening
-// with a square), largest remaining component only, holes filled: a last try for a region whose
-// thin parts the maps cannot follow. Empty when nothing is left.
-std::vector<uint8_t> opened(const std::vector<uint8_t>& mask, int w, int h, int radius) {
-    std::vector<uint8_t> inv(mask.size());
-    for (size_t k = 0; k < mask.size(); ++k) inv[k] = !mask[k];
-    std::vector<uint8_t> eroded = dilated(inv, w, h, radius);
-    for (auto& v : eroded) v = !v;
-    std::vector<uint8_t> out = dilated(eroded, w, h, radius);
-    for (size_t k = 0; k < out.size(); ++k) out[k] = out[k] && mask[k];
-    return out;
-}
-
 // A C×R mesh of straight patches over the whole canvas, colours fitted to every pixel.
 GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
     const int C = std::max(1, static_cast<int>(std::lround(image.width / patchSize)));
@@ -164,7 +104,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             const Region& own = regions[k];
             const std::vector<uint8_t> under = later(k);
             try {
-                meshes[k] = convertRegion(image, grownRegion(own, options.overlap, 0, under), co,
+                meshes[k] = convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
                                           reports[k]);
                 ok[k] = 1;
                 continue;
@@ -178,7 +118,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                 // paints its own pixels.
                 try {
                     meshes[k] = convertRegion(
-                        image, grownRegion(own, options.overlap, std::numeric_limits<int>::max(), under),
+                        image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
                         co, reports[k]);
                     ok[k] = 2;
                     fallbacks[k] = "holes filled (" + fallbacks[k] + ")";
@@ -190,14 +130,14 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             // Without its thin parts (their pixels stay with the neighbours' overlap and the
             // base mesh).
             for (const int radius : {2, 5}) try {
-                const std::vector<uint8_t> core = opened(own.mask, own.width, own.height, radius);
+                const std::vector<uint8_t> core = openMask(own.mask, own.width, own.height, radius);
                 RegionOptions ro;
                 ro.minArea = 16;
                 ro.minHole = std::numeric_limits<int>::max();
                 std::vector<Region> rs =
                     extractRegions(coverageFromBits(own.width, own.height, core), ro);
                 if (rs.empty()) throw Error("nothing is left without its thin parts");
-                Region trimmed = grownRegion(rs.front(), options.overlap, 0, under);
+                Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
                 meshes[k] = convertRegion(image, trimmed, co, reports[k]);
                 ok[k] = 3;
                 fallbacks[k] = "parts thinner than " + std::to_string(2 * radius + 1) +

@@ -537,4 +537,58 @@ std::vector<Region> extractRegionsFromLabels(int width, int height, const std::v
     return regionsFromClasses(width, height, cls, source, options, "label map");
 }
 
+std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius) {
+    std::vector<uint8_t> rows(mask.size(), 0), out(mask.size(), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            uint8_t v = 0;
+            for (int d = -radius; d <= radius && !v; ++d) {
+                const int xx = x + d;
+                if (xx >= 0 && xx < w) v = mask[static_cast<size_t>(y) * w + xx];
+            }
+            rows[static_cast<size_t>(y) * w + x] = v;
+        }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            uint8_t v = 0;
+            for (int d = -radius; d <= radius && !v; ++d) {
+                const int yy = y + d;
+                if (yy >= 0 && yy < h) v = rows[static_cast<size_t>(yy) * w + x];
+            }
+            out[static_cast<size_t>(y) * w + x] = v;
+        }
+    return out;
+}
+
+Region growRegionInto(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under,
+                      double outerLevel) {
+    if (overlap <= 0 && minHole <= 0) return own;
+    RegionOptions ro;
+    ro.minArea = 1;
+    ro.minHole = minHole;
+    ro.outerLevel = outerLevel;
+    std::vector<uint8_t> grown = own.mask;
+    if (overlap > 0) {
+        const std::vector<uint8_t> d = dilateMask(own.mask, own.width, own.height, overlap);
+        for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
+    }
+    std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, grown), ro);
+    if (rs.empty()) throw Error("the grown region vanished");
+    Region g = std::move(rs.front());  // the largest: grown from one component, it is one
+    g.label = own.label;
+    g.mask = own.mask;
+    g.pixelCount = own.pixelCount;
+    return g;
+}
+
+std::vector<uint8_t> openMask(const std::vector<uint8_t>& mask, int w, int h, int radius) {
+    std::vector<uint8_t> inv(mask.size());
+    for (size_t k = 0; k < mask.size(); ++k) inv[k] = !mask[k];
+    std::vector<uint8_t> eroded = dilateMask(inv, w, h, radius);
+    for (auto& v : eroded) v = !v;
+    std::vector<uint8_t> out = dilateMask(eroded, w, h, radius);
+    for (size_t k = 0; k < out.size(); ++k) out[k] = out[k] && mask[k];
+    return out;
+}
+
 }  // namespace gm

@@ -625,8 +625,11 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py) {
     TopologyMap result;
     result.map = ParamMap{px, py, std::move(uv)};
     if (const int flips = countFlippedTriangles(mesh, result.map); flips > 0)
-        throw Error("topology map: the mean-value map folds " + std::to_string(flips) +
-                    " triangle(s); is the triangulation's orientation positive?");
+        // In exact arithmetic it cannot (convex boundary, positive weights): the folds are
+        // round-off where a thin part is squeezed, as below.
+        throw SqueezeError("topology map: the mean-value map folds " + std::to_string(flips) +
+                           " triangle(s) (a thin part squeezed below round-off, or a "
+                           "triangulation of negative orientation)");
     requireNoSqueezedTriangle(mesh, result.map);
     return result;
 }

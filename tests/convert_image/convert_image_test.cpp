@@ -420,3 +420,35 @@ TEST_CASE("300 tiny holes: minHole 0 converts or refuses clearly, by default the
         CHECK(cov >= 0.995);
     }
 }
+
+TEST_CASE("a body with six long thin legs converts in parts, every pixel covered", "[convert][thin]") {
+    // Like horse.png: more thin parts than corners, so one map squeezes some to zero area
+    // whatever the corners; the region is converted as its core plus each thin part.
+    const int W = 260, H = 200;
+    const RgbaImage image = smoothImage(W, H);
+    const Sdf sdf = [](double x, double y) {
+        double d = boxSdf(x, y, 40, 30, 220, 90);
+        for (double lx : {50.0, 80.0, 110.0, 150.0, 180.0, 205.0})
+            d = std::min(d, boxSdf(x, y, lx, 85, lx + 7, 185));  // legs 7 x 100 px
+        return d;
+    };
+    const ObjectMask mask = maskFromSdf(W, H, sdf);
+    const Outcome o = convert(image, mask, ConvertOptions{}, "six legs");
+    requireConverted(o, "six legs");
+    saveRender(o.render, "six_legs.png");
+    CHECK(o.doc.meshes.size() >= 2);
+    CHECK(o.report.regions.front().part == "core");
+    long covered = 0, inside = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            if (!inMask(mask, x, y)) continue;
+            ++inside;
+            covered += alphaAt(o.render, x, y) >= 0.5f;
+        }
+    INFO(covered << " of " << inside << " covered, E " << o.report.error.meanAbs);
+    CHECK(covered >= 0.995 * inside);
+    CHECK(o.report.error.meanAbs < 1.0);
+    const Fidelity f = fidelity(o.render, sdf);
+    CHECK(f.spill == 0);
+    CHECK(f.bite == 0);
+}

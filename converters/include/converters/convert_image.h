@@ -41,6 +41,8 @@ struct RegionReport {
     int triangles = 0, vertices = 0, flippedTriangles = 0;
     int mapRefinedVertices = 0;  // added by refinement where the slit map folded
     bool tipCorners = false;     // corners moved to the sharpest tips (the first choice squeezed)
+    std::string part;            // "" (the whole region), "core" or "thin part ...": a region
+                                 // whose map squeezed even so, converted in parts
     int columns = 0, rows = 0, patches = 0;
     StageSeconds seconds;
     FitError error;

@@ -58,4 +58,19 @@ std::vector<Region> extractRegions(const Coverage& coverage, const RegionOptions
 std::vector<Region> extractRegionsFromLabels(int width, int height, const std::vector<int>& labels,
                                              const RegionOptions& options = {});
 
+// The mask (width*height, non-zero = in) grown by `radius` pixels (a square neighbourhood).
+std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius);
+
+// The mask less its parts thinner than 2·radius+1 pixels (a morphological opening with a
+// square), never adding a pixel.
+std::vector<uint8_t> openMask(const std::vector<uint8_t>& mask, int w, int h, int radius);
+
+// The geometry of `own` for a mesh that reaches under its neighbours: the outline traced around
+// its pixels dilated by `overlap` pixels into `under` (width*height; the pixels of whatever is
+// drawn on top of it), holes under minHole pixels filled; Region::mask stays `own`'s pixels
+// (what the colours are fitted to); outerLevel as RegionOptions::outerLevel. Throws gm::Error if
+// nothing is left.
+Region growRegionInto(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under,
+                      double outerLevel = 0.5);
+
 }  // namespace gm
