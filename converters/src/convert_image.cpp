@@ -150,12 +150,13 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
 
 namespace {
 // The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
-// thin parts, four corners): its core without the parts thinner than 2·radius+1 px, and each
+// thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
+// parts): its core without the parts thinner than 2·radius+1 px, and each
 // thin part on its own, the core reaching a pixel under them. Returns the meshes, core first;
 // throws what convertRegion throws when no radius works for the core.
 std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& region,
                                          const ConvertOptions& options,
-                                         std::vector<RegionReport>& reports) {
+                                         std::vector<RegionReport>& reports, int depth = 0) {
     const int w = region.width, h = region.height;
     std::string last;
     for (const int radius : {2, 4, 7}) {
@@ -167,7 +168,9 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
         ro.outerLevel = options.outerLevel;
         const std::vector<uint8_t> core = openMask(region.mask, w, h, radius);
         std::vector<Region> cores = extractRegions(coverageFromBits(w, h, core), ro);
-        if (cores.empty()) break;
+        // The core must be most of the region: tiny holes everywhere (or a region that is all
+        // thin parts) would leave shreds, worse than the refusal.
+        if (cores.empty() || cores.front().pixelCount < region.pixelCount / 2) break;
         std::vector<uint8_t> rest(region.mask.size());
         for (size_t k = 0; k < rest.size(); ++k) rest[k] = region.mask[k] && !cores.front().mask[k];
         RegionReport rr;
@@ -175,7 +178,7 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
             meshes.push_back(convertRegion(
                 image, growRegionInto(cores.front(), 1, options.minHole, rest, options.outerLevel),
                 options, rr));
-        } catch (const SqueezeError& e) {
+        } catch (const MapError& e) {
             last = e.reason();
             continue;
         }
@@ -184,12 +187,28 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
         // The thin parts (and whatever else the opening removed), each its own mesh on top.
         bool restLeft = false;
         for (uint8_t v : rest) restLeft = restLeft || v;
+        // Parts under 16 px are left to the core's overlap.
+        ro.minArea = 16;
         if (restLeft)
             for (const Region& piece : extractRegions(coverageFromBits(w, h, rest), ro)) {
                 RegionReport pr;
                 try {
                     meshes.push_back(convertRegion(image, piece, options, pr));
                     pr.part = "thin part";
+                } catch (const MapError& e) {
+                    std::vector<RegionReport> sub;
+                    try {
+                        if (depth > 0) throw;
+                        for (GradientMesh& m : convertInParts(image, piece, options, sub, depth + 1))
+                            meshes.push_back(std::move(m));
+                        for (RegionReport& r : sub) r.part = "thin part, " + r.part;
+                        reports.insert(reports.end(), sub.begin(), sub.end());
+                        continue;
+                    } catch (const Error& e2) {
+                        pr = RegionReport{};
+                        pr.pixels = piece.pixelCount;
+                        pr.part = "thin part left uncovered: " + e2.reason();
+                    }
                 } catch (const Error& e) {
                     pr = RegionReport{};
                     pr.pixels = piece.pixelCount;
@@ -199,7 +218,7 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
             }
         return meshes;
     }
-    throw SqueezeError(last.empty() ? "no core left without the region's thin parts" : last);
+    throw MapError(last.empty() ? "no core left without the region's thin parts" : last);
 }
 }  // namespace
 
@@ -232,9 +251,14 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         try {
             try {
                 doc.meshes.push_back(convertRegion(image, region, options, rrs[0]));
-            } catch (const SqueezeError&) {
-                for (GradientMesh& m : convertInParts(image, region, options, rrs))
-                    doc.meshes.push_back(std::move(m));
+            } catch (const MapError& whole) {
+                std::vector<GradientMesh> parts;
+                try {
+                    parts = convertInParts(image, region, options, rrs);
+                } catch (const MapError&) {
+                    throw whole;  // its message says what to change (--min-hole, ...)
+                }
+                for (GradientMesh& m : parts) doc.meshes.push_back(std::move(m));
             }
         } catch (const Error& e) {
             if (!e.file().empty()) throw;

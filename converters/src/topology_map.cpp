@@ -547,7 +547,7 @@ TopologyMap buildSlitMapOrFolds(const TriMesh& mesh, double px, double py) {
 TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
     TopologyMap result = buildSlitMapOrFolds(mesh, px, py);
     if (!result.folded.empty())
-        throw Error("the slit map of " + std::to_string(mesh.holeLoops.size()) +
+        throw MapError("the slit map of " + std::to_string(mesh.holeLoops.size()) +
                     " hole(s) cannot be unfolded near " +
                     at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
                     std::to_string(result.folded.size()) +
@@ -577,7 +577,7 @@ TopologyMap buildTopologyMapRefining(TriMesh& mesh, double px, double py, int ma
         result.stats.refinedVertices = previous.refinedVertices + added;
     }
     if (!result.folded.empty())
-        throw Error("the slit map of " + std::to_string(mesh.holeLoops.size()) +
+        throw MapError("the slit map of " + std::to_string(mesh.holeLoops.size()) +
                     " hole(s) cannot be unfolded near " +
                     at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
                     std::to_string(result.folded.size()) + " triangles after " +

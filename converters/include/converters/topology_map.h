@@ -39,10 +39,17 @@ struct TopologyMap {
     std::vector<int> folded;     // buildSlitMapOrFolds only: triangles the map still folds
 };
 
-// Thrown when a map squeezes a triangle to zero area (a long thin part whose flanks lie on one
-// side of the rectangle); other corners may avoid it.
-struct SqueezeError : Error {
+// Thrown when no unfolded map was found for a valid triangulation: the region's shape is the
+// problem (holes too close to each other or to the outline, thin parts), and converting it in
+// parts may work.
+struct MapError : Error {
     using Error::Error;
+};
+
+// A map squeezed a triangle to zero area (a long thin part whose flanks lie on one side of the
+// rectangle); other corners may avoid it.
+struct SqueezeError : MapError {
+    using MapError::MapError;
 };
 
 // The stage entry point. Without holes: the outer loop onto the rectangle's sides by arc length
