@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "converters/boundary.h"
 #include "converters/corners.h"
@@ -66,79 +67,124 @@ std::string regionLabel(const Region& region) {
            std::to_string(static_cast<int>(at.y)) + "))";
 }
 
+namespace {
+// Everything up to the grid whose boundary follows the outline, for one choice of corners.
+struct RegionGeometry {
+    RegionCorners corners;
+    TriMesh tri;
+    TopologyMap topo;
+    FeatureMap feature;
+    std::unique_ptr<GridBuilder> grid;
+    GridOptions go;
+    BoundaryFitResult fitted;
+    StageSeconds seconds;
+};
+
+std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Region& region,
+                                              const ConvertOptions& options,
+                                              const RegionCorners& corners) {
+    auto g = std::make_unique<RegionGeometry>();
+    g->corners = corners;
+    TriangulateOptions to;
+    // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
+    // 4096² object needs no finer triangulation than a 1024² one.
+    to.sampleFraction = std::min(options.sampleFraction,
+                                 double(options.maxSamples) / std::max(1, region.pixelCount));
+    auto t0 = Clock::now();
+    g->tri = triangulateRegion(image, region, corners, to);
+    g->seconds.triangulate = since(t0);
+    t0 = Clock::now();
+    g->topo = buildTopologyMapRefining(g->tri, corners.px, corners.py);
+    g->seconds.topology = since(t0);
+
+    t0 = Clock::now();
+    g->feature = buildFeatureMap(g->tri, g->topo.map, image);
+    g->seconds.feature = since(t0);
+    if (const int flips = countFlippedTriangles(g->tri, g->feature.map); flips != 0)
+        throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
+
+    t0 = Clock::now();
+    g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
+    // The initial grid takes at most a quarter of the patch budget: the rest is for the
+    // outline and the colours.
+    g->go.targetPatchSize =
+        std::max(options.targetPatchSize,
+                 std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
+    for (const SlitInfo& slit : g->topo.slits) g->go.slits.push_back({slit.v, slit.u0, slit.u1});
+    BoundaryFitOptions bf;
+    bf.maxPatches = options.maxPatches;
+    bf.tolerance = options.outlineTolerance;
+    g->fitted = fitBoundary(*g->grid, g->go, bf);
+    g->seconds.mesh = since(t0);
+    return g;
+}
+
+void addSeconds(StageSeconds& to, const StageSeconds& from) {
+    to.corners += from.corners;
+    to.triangulate += from.triangulate;
+    to.topology += from.topology;
+    to.feature += from.feature;
+    to.mesh += from.mesh;
+}
+}  // namespace
+
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
                            const ConvertOptions& options, RegionReport& rr) {
     rr = RegionReport{};
     rr.pixels = region.pixelCount;
     rr.holes = static_cast<int>(region.holes.size());
     auto t0 = Clock::now();
-    RegionCorners corners = findCorners(region);
+    const RegionCorners first = findCorners(region);
     rr.seconds.corners = since(t0);
 
-    TriangulateOptions to;
-    // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
-    // 4096² object needs no finer triangulation than a 1024² one.
-    to.sampleFraction = std::min(options.sampleFraction,
-                                 double(options.maxSamples) / std::max(1, region.pixelCount));
-    TriMesh tri;
-    TopologyMap topo;
-    for (int attempt = 0;; ++attempt) {
+    // Corners at the region's sharpest tips are the second choice: when the first squeezes a
+    // thin part (thin parts should end at corners), or when the patch budget runs out before
+    // the boundary follows the outline (tails and fins between two corners need many knots).
+    std::unique_ptr<RegionGeometry> g;
+    try {
+        g = buildGeometry(image, region, options, first);
+    } catch (const SqueezeError&) {
         t0 = Clock::now();
-        tri = triangulateRegion(image, region, corners, to);
-        rr.seconds.triangulate += since(t0);
+        const RegionCorners tips = findTipCorners(region);
+        rr.seconds.corners += since(t0);
+        if (tips.index == first.index) throw;
+        g = buildGeometry(image, region, options, tips);
+        rr.tipCorners = true;
+    }
+    addSeconds(rr.seconds, g->seconds);
+    if (!rr.tipCorners && g->fitted.maxDeviation > options.retryDeviation) {
         t0 = Clock::now();
-        try {
-            topo = buildTopologyMapRefining(tri, corners.px, corners.py);
-            rr.seconds.topology += since(t0);
-            break;
-        } catch (const SqueezeError&) {
-            // A long thin part between two corners: once more with the corners at the
-            // region's sharpest tips, so thin parts end at corners.
-            rr.seconds.topology += since(t0);
-            if (attempt > 0) throw;
-            t0 = Clock::now();
-            const RegionCorners tips = findTipCorners(region);
-            rr.seconds.corners += since(t0);
-            if (tips.index == corners.index) throw;
-            corners = tips;
-            rr.tipCorners = true;
+        const RegionCorners tips = findTipCorners(region);
+        rr.seconds.corners += since(t0);
+        if (tips.index != first.index) {
+            try {
+                std::unique_ptr<RegionGeometry> other = buildGeometry(image, region, options, tips);
+                addSeconds(rr.seconds, other->seconds);  // both attempts count
+                if (other->fitted.maxDeviation < g->fitted.maxDeviation) {
+                    g = std::move(other);
+                    rr.tipCorners = true;
+                }
+            } catch (const MapError&) {
+                // The tips do not map: keep the first geometry.
+            }
         }
     }
-    rr.triangles = static_cast<int>(tri.triangles.size());
-    rr.vertices = static_cast<int>(tri.vertices.size());
-    rr.mapRefinedVertices = topo.stats.refinedVertices;
+    rr.triangles = static_cast<int>(g->tri.triangles.size());
+    rr.vertices = static_cast<int>(g->tri.vertices.size());
+    rr.mapRefinedVertices = g->topo.stats.refinedVertices;
+    rr.featureSolves = g->feature.solves;
+    rr.flippedTriangles = 0;
+    rr.outlineDeviation = g->fitted.maxDeviation;
+    rr.outlineKnots = g->fitted.addedU + g->fitted.addedV;
 
     t0 = Clock::now();
-    const FeatureMap feature = buildFeatureMap(tri, topo.map, image);
-    rr.seconds.feature = since(t0);
-    rr.featureSolves = feature.solves;
-    rr.flippedTriangles = countFlippedTriangles(tri, feature.map);
-    if (rr.flippedTriangles != 0)
-        throw Error("the parameterisation folded " + std::to_string(rr.flippedTriangles) +
-                    " triangles");
-
-    t0 = Clock::now();
-    const GridBuilder grid(tri, feature.map);
-    GridOptions go;
-    // The initial grid takes at most a quarter of the patch budget: the rest is for the
-    // outline and the colours.
-    go.targetPatchSize =
-        std::max(options.targetPatchSize,
-                 std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
-    for (const SlitInfo& slit : topo.slits) go.slits.push_back({slit.v, slit.u0, slit.u1});
-    BoundaryFitOptions bf;
-    bf.maxPatches = options.maxPatches;
-    bf.tolerance = options.outlineTolerance;
-    const BoundaryFitResult fitted = fitBoundary(grid, go, bf);
-    rr.outlineDeviation = fitted.maxDeviation;
-    rr.outlineKnots = fitted.addedU + fitted.addedV;
     RefineOptions rf;
     rf.maxError = options.maxError;
     rf.maxPatches = options.maxPatches;
     rf.color.mode = options.colors;
     rf.color.threads = options.threads;
-    RefineResult refined = refineMesh(grid, go, image, region, rf);
-    rr.seconds.mesh = since(t0);
+    RefineResult refined = refineMesh(*g->grid, g->go, image, region, rf);
+    rr.seconds.mesh += since(t0);
 
     rr.columns = refined.mesh.columns();
     rr.rows = refined.mesh.rows();
@@ -149,6 +195,16 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
 }
 
 namespace {
+// E and uncovered fraction of some meshes over the region's pixels (one render).
+FitError measureMeshes(const std::vector<GradientMesh>& meshes, const RgbaImage& image,
+                       const Region& region) {
+    Document d;
+    d.width = image.width;
+    d.height = image.height;
+    d.meshes = meshes;
+    return compareOverMask(image, renderDocument(d, RenderOptions{}).image, region.mask);
+}
+
 // The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
 // thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
 // parts): its core without the parts thinner than 2·radius+1 px, and each
@@ -189,8 +245,16 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
         for (uint8_t v : rest) restLeft = restLeft || v;
         // Parts under 16 px are left to the core's overlap.
         ro.minArea = 16;
-        if (restLeft)
-            for (const Region& piece : extractRegions(coverageFromBits(w, h, rest), ro)) {
+        std::vector<Region> pieces;
+        if (restLeft) {
+            try {
+                pieces = extractRegions(coverageFromBits(w, h, rest), ro);
+            } catch (const Error&) {
+                // every piece under 16 px: nothing to convert
+            }
+        }
+        {
+            for (const Region& piece : pieces) {
                 RegionReport pr;
                 try {
                     meshes.push_back(convertRegion(image, piece, options, pr));
@@ -216,6 +280,7 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
                 }
                 reports.push_back(pr);
             }
+        }
         return meshes;
     }
     throw MapError(last.empty() ? "no core left without the region's thin parts" : last);
@@ -249,17 +314,42 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     for (const Region& region : regions) {
         std::vector<RegionReport> rrs(1);
         try {
+            std::vector<GradientMesh> meshes;
             try {
-                doc.meshes.push_back(convertRegion(image, region, options, rrs[0]));
+                meshes.push_back(convertRegion(image, region, options, rrs[0]));
             } catch (const MapError& whole) {
-                std::vector<GradientMesh> parts;
                 try {
-                    parts = convertInParts(image, region, options, rrs);
+                    meshes = convertInParts(image, region, options, rrs);
                 } catch (const MapError&) {
                     throw whole;  // its message says what to change (--min-hole, ...)
                 }
-                for (GradientMesh& m : parts) doc.meshes.push_back(std::move(m));
             }
+            if (rrs.size() == 1 && rrs[0].outlineDeviation > options.retryDeviation) {
+                // The budget ran out before the boundary followed the outline (fins, tails):
+                // in parts, if that covers the region clearly better and keeps its holes.
+                std::vector<RegionReport> partReports;
+                try {
+                    std::vector<GradientMesh> parts =
+                        convertInParts(image, region, options, partReports);
+                    // Only when every hole stays a hole of a mesh (an opening can cut the
+                    // wall between a hole and the outline: the hole would become a notch).
+                    int holes = 0;
+                    for (const GradientMesh& m : parts) holes += m.holeCount();
+                    const FitError whole = measureMeshes(meshes, image, region);
+                    const FitError split = measureMeshes(parts, image, region);
+                    if (holes == meshes.front().holeCount() && split.uncovered * 2 < whole.uncovered &&
+                        split.meanAbs <= 1.1 * whole.meanAbs) {
+                        addSeconds(partReports.front().seconds, rrs[0].seconds);  // both count
+                        meshes = std::move(parts);
+                        rrs = std::move(partReports);
+                    } else {
+                        for (const RegionReport& r : partReports) addSeconds(rrs[0].seconds, r.seconds);
+                    }
+                } catch (const Error&) {
+                    // No parts: the whole region's mesh stays.
+                }
+            }
+            for (GradientMesh& m : meshes) doc.meshes.push_back(std::move(m));
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error("region " + std::to_string(rep.regions.size()) + " " + regionLabel(region) +

@@ -571,3 +571,20 @@ TEST_CASE("segment mode converts a whole image with every pixel painted", "[cli_
     CHECK(info.code == 0);
     CHECK_THAT(info.out, Contains("mesh 1:"));
 }
+
+TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[cli_convert][samples]") {
+    // A smoke test over real photos: chelsea.png once failed in the thin-parts fallback when
+    // every thin part was under 16 px.
+    const fs::path d = tmpDir("samples");
+    for (const char* name : {"apple.jpg", "astronaut.png", "chelsea.png", "fruits.jpg",
+                             "HappyFish.jpg", "horse.png", "pic1.png", "plant.jpg"}) {
+        INFO(name);
+        const std::string in = std::string(GRADMESH_SAMPLES) + "/" + name;
+        const Run r = gradmesh("convert " + q(in) + " -o " + q(d / "out.gmb"), d);
+        INFO(r.err);
+        CHECK(r.code == 0);
+        CHECK(r.err.empty());
+        const Run info = gradmesh("info " + q(d / "out.gmb"), d);
+        CHECK(info.code == 0);
+    }
+}

@@ -26,6 +26,8 @@ struct ConvertOptions {
     double outerLevel = 0.35;     // RegionOptions::outerLevel
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
     int threads = 0;              // renderer threads inside one region's fit (0: all cores)
+    double retryDeviation = 2.0;  // pixels: a boundary fit farther than this from the outline
+                                  // is tried again with the corners at the sharpest tips
 };
 
 struct StageSeconds {
