@@ -152,7 +152,8 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
         rr.tipCorners = true;
     }
     addSeconds(rr.seconds, g->seconds);
-    if (!rr.tipCorners && g->fitted.maxDeviation > options.retryDeviation) {
+    if (!rr.tipCorners && g->fitted.maxDeviation > options.retryDeviation &&
+        region.pixelCount <= options.retryMaxPixels) {
         t0 = Clock::now();
         const RegionCorners tips = findTipCorners(region);
         rr.seconds.corners += since(t0);
@@ -324,7 +325,8 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
                     throw whole;  // its message says what to change (--min-hole, ...)
                 }
             }
-            if (rrs.size() == 1 && rrs[0].outlineDeviation > options.retryDeviation) {
+            if (rrs.size() == 1 && rrs[0].outlineDeviation > options.retryDeviation &&
+                region.pixelCount <= options.retryMaxPixels) {
                 // The budget ran out before the boundary followed the outline (fins, tails):
                 // in parts, if that covers the region clearly better and keeps its holes.
                 std::vector<RegionReport> partReports;

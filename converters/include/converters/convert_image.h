@@ -27,7 +27,9 @@ struct ConvertOptions {
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
     int threads = 0;              // renderer threads inside one region's fit (0: all cores)
     double retryDeviation = 2.0;  // pixels: a boundary fit farther than this from the outline
-                                  // is tried again with the corners at the sharpest tips
+                                  // is tried again with the corners at the sharpest tips, then
+                                  // in parts (keeping the better), for regions of at most
+    int retryMaxPixels = 1 << 20; // this many pixels (a retry costs a whole conversion)
 };
 
 struct StageSeconds {
