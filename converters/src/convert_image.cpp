@@ -118,14 +118,6 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     g->seconds.mesh = since(t0);
     return g;
 }
-
-void addSeconds(StageSeconds& to, const StageSeconds& from) {
-    to.corners += from.corners;
-    to.triangulate += from.triangulate;
-    to.topology += from.topology;
-    to.feature += from.feature;
-    to.mesh += from.mesh;
-}
 }  // namespace
 
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
@@ -151,7 +143,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
         g = buildGeometry(image, region, options, tips);
         rr.tipCorners = true;
     }
-    addSeconds(rr.seconds, g->seconds);
+    rr.seconds += g->seconds;
     if (!rr.tipCorners && g->fitted.maxDeviation > options.retryDeviation &&
         region.pixelCount <= options.retryMaxPixels) {
         t0 = Clock::now();
@@ -160,7 +152,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
         if (tips.index != first.index) {
             try {
                 std::unique_ptr<RegionGeometry> other = buildGeometry(image, region, options, tips);
-                addSeconds(rr.seconds, other->seconds);  // both attempts count
+                rr.seconds += other->seconds;  // both attempts count
                 if (other->fitted.maxDeviation < g->fitted.maxDeviation) {
                     g = std::move(other);
                     rr.tipCorners = true;
@@ -341,11 +333,11 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
                     const FitError split = measureMeshes(parts, image, region);
                     if (holes == meshes.front().holeCount() && split.uncovered * 2 < whole.uncovered &&
                         split.meanAbs <= 1.1 * whole.meanAbs) {
-                        addSeconds(partReports.front().seconds, rrs[0].seconds);  // both count
+                        partReports.front().seconds += rrs[0].seconds;  // both count
                         meshes = std::move(parts);
                         rrs = std::move(partReports);
                     } else {
-                        for (const RegionReport& r : partReports) addSeconds(rrs[0].seconds, r.seconds);
+                        for (const RegionReport& r : partReports) rrs[0].seconds += r.seconds;
                     }
                 } catch (const Error&) {
                     // No parts: the whole region's mesh stays.
@@ -360,11 +352,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
         }
         for (RegionReport& rr : rrs) {
             rep.patches += rr.patches;
-            rep.seconds.corners += rr.seconds.corners;
-            rep.seconds.triangulate += rr.seconds.triangulate;
-            rep.seconds.topology += rr.seconds.topology;
-            rep.seconds.feature += rr.seconds.feature;
-            rep.seconds.mesh += rr.seconds.mesh;
+            rep.seconds += rr.seconds;
             rep.regions.push_back(std::move(rr));
         }
     }

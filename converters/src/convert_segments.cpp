@@ -182,11 +182,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             ++rep.failedRegions;
         }
         cr.patches += rr.patches;
-        cr.seconds.corners += rr.seconds.corners;
-        cr.seconds.triangulate += rr.seconds.triangulate;
-        cr.seconds.topology += rr.seconds.topology;
-        cr.seconds.feature += rr.seconds.feature;
-        cr.seconds.mesh += rr.seconds.mesh;
+        cr.seconds += rr.seconds;
         rep.regionLabels.push_back(regions[k].label);
         rep.fallbacks.push_back(fallbacks[k]);
         cr.regions.push_back(std::move(rr));

@@ -38,6 +38,11 @@ struct StageSeconds {
     double P() const { return topology + feature; }
     double M() const { return mesh; }
     double total() const { return T() + P() + M(); }
+    StageSeconds& operator+=(const StageSeconds& o) {
+        regions += o.regions, corners += o.corners, triangulate += o.triangulate;
+        topology += o.topology, feature += o.feature, mesh += o.mesh;
+        return *this;
+    }
 };
 
 struct RegionReport {
