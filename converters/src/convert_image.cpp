@@ -233,46 +233,40 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
         }
         rr.part = "core";
         reports.push_back(rr);
-        // The thin parts (and whatever else the opening removed), each its own mesh on top.
-        bool restLeft = false;
-        for (uint8_t v : rest) restLeft = restLeft || v;
-        // Parts under 16 px are left to the core's overlap.
+        // The thin parts (and whatever else the opening removed), each its own mesh on top;
+        // parts under 16 px are left to the core's overlap.
         ro.minArea = 16;
         std::vector<Region> pieces;
-        if (restLeft) {
-            try {
-                pieces = extractRegions(coverageFromBits(w, h, rest), ro);
-            } catch (const Error&) {
-                // every piece under 16 px: nothing to convert
-            }
+        try {
+            pieces = extractRegions(coverageFromBits(w, h, rest), ro);
+        } catch (const Error&) {
+            // nothing left, or every piece under 16 px
         }
-        {
-            for (const Region& piece : pieces) {
-                RegionReport pr;
+        for (const Region& piece : pieces) {
+            RegionReport pr;
+            try {
+                meshes.push_back(convertRegion(image, piece, options, pr));
+                pr.part = "thin part";
+            } catch (const MapError& e) {
+                std::vector<RegionReport> sub;
                 try {
-                    meshes.push_back(convertRegion(image, piece, options, pr));
-                    pr.part = "thin part";
-                } catch (const MapError& e) {
-                    std::vector<RegionReport> sub;
-                    try {
-                        if (depth > 0) throw;
-                        for (GradientMesh& m : convertInParts(image, piece, options, sub, depth + 1))
-                            meshes.push_back(std::move(m));
-                        for (RegionReport& r : sub) r.part = "thin part, " + r.part;
-                        reports.insert(reports.end(), sub.begin(), sub.end());
-                        continue;
-                    } catch (const Error& e2) {
-                        pr = RegionReport{};
-                        pr.pixels = piece.pixelCount;
-                        pr.part = "thin part left uncovered: " + e2.reason();
-                    }
-                } catch (const Error& e) {
+                    if (depth > 0) throw;
+                    for (GradientMesh& m : convertInParts(image, piece, options, sub, depth + 1))
+                        meshes.push_back(std::move(m));
+                    for (RegionReport& r : sub) r.part = "thin part, " + r.part;
+                    reports.insert(reports.end(), sub.begin(), sub.end());
+                    continue;
+                } catch (const Error& e2) {
                     pr = RegionReport{};
                     pr.pixels = piece.pixelCount;
-                    pr.part = "thin part left uncovered: " + e.reason();
+                    pr.part = "thin part left uncovered: " + e2.reason();
                 }
-                reports.push_back(pr);
+            } catch (const Error& e) {
+                pr = RegionReport{};
+                pr.pixels = piece.pixelCount;
+                pr.part = "thin part left uncovered: " + e.reason();
             }
+            reports.push_back(pr);
         }
         return meshes;
     }
