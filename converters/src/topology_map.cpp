@@ -544,16 +544,28 @@ TopologyMap buildSlitMapOrFolds(const TriMesh& mesh, double px, double py) {
     return result;
 }
 
+namespace {
+// The checks every slit map passes before it leaves this stage: no fold left (MapError naming
+// where, and the rounds of refinement tried), no triangle squeezed to zero area.
+void requireUsableSlitMap(const TriMesh& mesh, const TopologyMap& result) {
+    if (!result.folded.empty()) {
+        const int rounds = result.stats.refineRounds;
+        throw MapError("the slit map of " + std::to_string(mesh.holeLoops.size()) +
+                       " hole(s) cannot be unfolded near " +
+                       at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
+                       std::to_string(result.folded.size()) + " triangles" +
+                       (rounds > 0 ? " after " + std::to_string(rounds) + " rounds of refinement"
+                                   : std::string()) +
+                       "): holes lie too close to each other or to the outline; "
+                       "--min-hole N fills holes under N pixels");
+    }
+    requireNoSqueezedTriangle(mesh, result.map);
+}
+}  // namespace
+
 TopologyMap buildSlitMap(const TriMesh& mesh, double px, double py) {
     TopologyMap result = buildSlitMapOrFolds(mesh, px, py);
-    if (!result.folded.empty())
-        throw MapError("the slit map of " + std::to_string(mesh.holeLoops.size()) +
-                    " hole(s) cannot be unfolded near " +
-                    at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
-                    std::to_string(result.folded.size()) +
-                    " triangles): holes lie too close to each other or to the outline; "
-                    "--min-hole N fills holes under N pixels");
-    requireNoSqueezedTriangle(mesh, result.map);
+    requireUsableSlitMap(mesh, result);
     return result;
 }
 
@@ -576,15 +588,7 @@ TopologyMap buildTopologyMapRefining(TriMesh& mesh, double px, double py, int ma
         result.stats.refineRounds = previous.refineRounds + 1;
         result.stats.refinedVertices = previous.refinedVertices + added;
     }
-    if (!result.folded.empty())
-        throw MapError("the slit map of " + std::to_string(mesh.holeLoops.size()) +
-                    " hole(s) cannot be unfolded near " +
-                    at(mesh.vertices[mesh.triangles[result.folded[0]][0]]) + " (" +
-                    std::to_string(result.folded.size()) + " triangles after " +
-                    std::to_string(result.stats.refineRounds) +
-                    " rounds of refinement): holes lie too close to each other or to the "
-                    "outline; --min-hole N fills holes under N pixels");
-    requireNoSqueezedTriangle(mesh, result.map);
+    requireUsableSlitMap(mesh, result);
     return result;
 }
 
