@@ -48,14 +48,20 @@ double arcLength(const std::vector<Vec2>& p, int i, int j) {
 }
 
 RegionCorners labelCorners(const std::vector<Vec2>& p, const std::array<int, 4>& sorted);
+
+// The outer loop, with at least the 4 points that four corners need (gm::Error otherwise).
+const std::vector<Vec2>& outerLoopOf(const Region& region) {
+    const std::vector<Vec2>& p = region.outer.points;
+    if (p.size() < 4)
+        throw Error("the region's outer loop has " + std::to_string(p.size()) +
+                    " points; four corners need at least 4");
+    return p;
+}
 }  // namespace
 
 RegionCorners findCorners(const Region& region, const CornerOptions& options) {
-    const std::vector<Vec2>& p = region.outer.points;
+    const std::vector<Vec2>& p = outerLoopOf(region);
     const int n = static_cast<int>(p.size());
-    if (n < 4)
-        throw Error("the region's outer loop has " + std::to_string(n) +
-                    " points; four corners need at least 4");
 
     // Area moments of the polygon (Green's theorem): centroid and covariance.
     double area = 0, cx = 0, cy = 0, sxx = 0, syy = 0, sxy = 0;
@@ -139,11 +145,8 @@ RegionCorners findCorners(const Region& region, const CornerOptions& options) {
 }
 
 RegionCorners findTipCorners(const Region& region, const CornerOptions& options) {
-    const std::vector<Vec2>& p = region.outer.points;
+    const std::vector<Vec2>& p = outerLoopOf(region);
     const int n = static_cast<int>(p.size());
-    if (n < 4)
-        throw Error("the region's outer loop has " + std::to_string(n) +
-                    " points; four corners need at least 4");
     double perimeter = 0;
     std::vector<double> at(n + 1, 0);  // arc length from point 0
     for (int k = 0; k < n; ++k) at[k + 1] = perimeter += norm(p[(k + 1) % n] - p[k]);
