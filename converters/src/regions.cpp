@@ -537,27 +537,30 @@ std::vector<Region> extractRegionsFromLabels(int width, int height, const std::v
     return regionsFromClasses(width, height, cls, source, options, "label map");
 }
 
-std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius) {
-    std::vector<uint8_t> rows(mask.size(), 0), out(mask.size(), 0);
+namespace {
+// One separable pass of dilateMask: out(x, y) = any of `in` within `radius` along x (alongX)
+// or along y.
+std::vector<uint8_t> dilatePass(const std::vector<uint8_t>& in, int w, int h, int radius,
+                                bool alongX) {
+    std::vector<uint8_t> out(in.size(), 0);
+    const int len = alongX ? w : h;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
+            const int at = alongX ? x : y;
             uint8_t v = 0;
             for (int d = -radius; d <= radius && !v; ++d) {
-                const int xx = x + d;
-                if (xx >= 0 && xx < w) v = mask[static_cast<size_t>(y) * w + xx];
-            }
-            rows[static_cast<size_t>(y) * w + x] = v;
-        }
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            uint8_t v = 0;
-            for (int d = -radius; d <= radius && !v; ++d) {
-                const int yy = y + d;
-                if (yy >= 0 && yy < h) v = rows[static_cast<size_t>(yy) * w + x];
+                const int q = at + d;
+                if (q >= 0 && q < len)
+                    v = in[alongX ? static_cast<size_t>(y) * w + q : static_cast<size_t>(q) * w + x];
             }
             out[static_cast<size_t>(y) * w + x] = v;
         }
     return out;
+}
+}  // namespace
+
+std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius) {
+    return dilatePass(dilatePass(mask, w, h, radius, true), w, h, radius, false);
 }
 
 Region growRegionInto(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under,
