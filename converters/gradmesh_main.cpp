@@ -55,13 +55,16 @@ const std::map<std::string, std::string> kHelp = {
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 0.5)\n"
      "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
      "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
-     "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"},
+     "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
+     "  --mesh-lines COLOR      raster outputs: draw every patch edge and node in COLOR\n"},
     {"render",
-     "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR]\n"
+     "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR] [--mesh-lines COLOR]\n"
      "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline).\n"
      "  -o, --output PATH       .png .jpg .tif .exr\n"
      "  --scale S               output pixels per canvas pixel (default 1)\n"
-     "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"},
+     "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"
+     "  --mesh-lines COLOR      draw every patch edge (grid lines, outline, slits) and node in\n"
+     "                          COLOR over the render, as a mesh tool shows them\n"},
     {"info",
      "usage: gradmesh info IN\n"
      "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
@@ -223,6 +226,10 @@ int cmdConvert(const Args& a, bool renderOnly) {
     if (auto it = a.values.find("--scale"); it != a.values.end())
         wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
     if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
+    if (auto it = a.values.find("--mesh-lines"); it != a.values.end()) {
+        wo.meshLines = parseColor(it->second);
+        if (wo.meshLines[3] <= 0) throw UsageError("--mesh-lines needs a visible colour, got '" + it->second + "'");
+    }
 
     const gm::MeshFormat* writer = writerFor(out);
     if (renderOnly && writer->name() != "raster")
@@ -376,7 +383,7 @@ int main(int argc, char** argv) {
     try {
         if (command == "convert" || command == "render") {
             std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance",
-                                            "--scale", "--background"};
+                                            "--scale", "--background", "--mesh-lines"};
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
             std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
             if (command == "convert") flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());

@@ -129,6 +129,14 @@ TEST_CASE("render, convert, info and compare work end to end", "[cli]") {
     CHECK(b.width == 1024);
     CHECK(b.at(2, 2)[3] == 1.0f);  // white background, opaque
     CHECK(a.at(2, 2)[3] == 0.0f);  // transparent outside the meshes
+    // Mesh lines over the render: some pixels change, the size does not.
+    REQUIRE(gradmesh("render " + q(d / "s.gmb") + " -o " + q(d / "l.png") + " --mesh-lines '#ff00ff'", d).code == 0);
+    const gm::RgbaImage l = gm::readImage((d / "l.png").string());
+    REQUIRE(l.width == a.width);
+    size_t changed = 0;
+    for (size_t k = 0; k < l.pixels.size(); ++k) changed += l.pixels[k] != a.pixels[k];
+    CHECK(changed > 1000);
+    CHECK(gradmesh("render " + q(d / "s.gmb") + " -o " + q(d / "m.png") + " --mesh-lines none", d).code == 2);
 
     REQUIRE(gradmesh("convert " + q(d / "s.gmb") + " -o " + q(d / "c.gmb") + " --compact", d).code == 0);
     REQUIRE(gradmesh("render " + q(d / "c.gmb") + " -o " + q(d / "c.png"), d).code == 0);

@@ -7,6 +7,7 @@
 
 #include "meshcore/error.h"
 #include "meshcore/evaluate.h"
+#include "meshcore/mesh_lines.h"
 #include "render_meshes.h"
 
 using namespace gm;
@@ -407,4 +408,29 @@ TEST_CASE("bad scales, oversized outputs and malformed meshes are errors", "[ren
     const RenderResult empty = renderMesh(m, 0, 0);
     CHECK(empty.image.width == 0);
     CHECK(empty.image.pixels.empty());
+}
+
+TEST_CASE("mesh lines are drawn on every patch edge and nowhere else", "[render][lines]") {
+    // A 2×2 grid over [10,50]²: lines at x, y = 10, 30, 50 (output pixels at scale 2: 20, 60, 100).
+    Document d;
+    d.width = d.height = 64;
+    d.meshes.push_back(rectangleMesh(10, 10, 50, 50, 2, 2, {0.2, 0.4, 0.6}));
+    const double scale = 2;
+    RgbaImage img = renderDocument(d, withScale(scale)).image;
+    const RgbaImage before = img;
+    drawMeshLines(img, d, scale, {1, 0, 0, 1});
+    auto redness = [&](int x, int y) { return img.at(x, y)[0] - before.at(x, y)[0]; };
+    // On grid lines (the pixels each side of the line at 60.0: 59 and 60).
+    for (int y : {30, 45, 70, 90}) {
+        CHECK(std::max(redness(59, y), redness(60, y)) > 0.3f);  // the middle column line
+        CHECK(std::max(redness(19, y), redness(20, y)) > 0.3f);  // the left outline
+    }
+    CHECK(std::max(redness(40, 59), redness(40, 60)) > 0.3f);  // the middle row line
+    // Away from every line: untouched.
+    for (auto [x, y] : {std::pair{40, 40}, std::pair{80, 80}, std::pair{40, 85}, std::pair{5, 5}}) {
+        CHECK(img.at(x, y)[0] == before.at(x, y)[0]);
+        CHECK(img.at(x, y)[3] == before.at(x, y)[3]);
+    }
+    // Outside the mesh the line colour is opaque-ish over a transparent background.
+    CHECK(img.at(19, 40)[3] > 0.3f);
 }

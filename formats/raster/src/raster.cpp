@@ -8,6 +8,7 @@
 
 #include "formats/atomic_file.h"
 #include "meshcore/error.h"
+#include "meshcore/mesh_lines.h"
 #include "meshcore/render.h"
 
 namespace gm {
@@ -171,6 +172,7 @@ public:
         ro.scale = options.rasterScale;
         RgbaImage img = renderDocument(doc, ro).image;
         compositeOver(img, options.background);
+        if (options.meshLines[3] > 0) drawMeshLines(img, doc, ro.scale, options.meshLines);
         writeImage(img, path);
     }
 };

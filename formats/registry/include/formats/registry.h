@@ -34,6 +34,8 @@ struct WriteOptions {
     bool textShading = false;         // EPS/PDF: text DataSource instead of the binary stream
     double rasterScale = 1.0;         // raster outputs: pixels per canvas pixel
     std::array<float, 4> background = {0, 0, 0, 0};  // raster outputs: RGBA 0–1, alpha 0 = none
+    std::array<float, 4> meshLines = {0, 0, 0, 0};   // raster outputs: patch edges drawn in
+                                                     // this colour; alpha 0 = none
 };
 
 class MeshFormat {
