@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "meshcore/evaluate.h"
 
@@ -45,20 +47,31 @@ double segmentDistance(Vec2 p, Vec2 a, Vec2 b) {
     return norm(p - (a + t * ab));
 }
 
-// Largest distance from a point of `from` to the polyline `to`.
-double directedDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+// Largest distance from a point of `from` to the polyline `to`, and the index of that point.
+std::pair<double, size_t> directedDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
     double worst = 0;
-    for (const Vec2& p : from) {
+    size_t at = 0;
+    for (size_t q = 0; q < from.size(); ++q) {
+        const Vec2& p = from[q];
         double best = INFINITY;
         for (size_t k = 0; k + 1 < to.size() && best > worst; ++k)
             best = std::min(best, segmentDistance(p, to[k], to[k + 1]));
-        worst = std::max(worst, best);
+        if (best > worst) {
+            worst = best;
+            at = q;
+        }
     }
-    return worst;
+    return {worst, at};
 }
 
-// Hausdorff distance between the edge's cubic and the outline under it, both sampled densely.
-double edgeDeviation(const GridBuilder& grid, const GradientMesh& m, const BoundaryEdge& e) {
+// Hausdorff distance between the edge's cubic and the outline under it, both sampled densely,
+// and where along the edge (local parameter 0–1) the worst point is.
+struct EdgeDeviation {
+    double distance = 0;
+    double where = 0.5;
+};
+
+EdgeDeviation edgeDeviation(const GridBuilder& grid, const GradientMesh& m, const BoundaryEdge& e) {
     const PatchHermite h = patchHermite(m, e.i, e.j);
     auto curveAt = [&](double a) {
         return (e.alongS ? evaluatePatch(h, a, e.fixed) : evaluatePatch(h, e.fixed, a)).pos;
@@ -73,7 +86,11 @@ double edgeDeviation(const GridBuilder& grid, const GradientMesh& m, const Bound
     std::vector<Vec2> curve(static_cast<size_t>(n) + 1), outline(static_cast<size_t>(4 * n) + 1);
     for (int k = 0; k <= n; ++k) curve[static_cast<size_t>(k)] = curveAt(double(k) / n);
     for (int k = 0; k <= 4 * n; ++k) outline[static_cast<size_t>(k)] = outlineAt(double(k) / (4 * n));
-    return std::max(directedDistance(curve, outline), directedDistance(outline, curve));
+    const auto [dc, ic] = directedDistance(curve, outline);
+    const auto [dout, io] = directedDistance(outline, curve);
+    // The outline's parameter is the map's, the one a knot is placed in.
+    if (dout >= dc) return {dout, double(io) / (4 * n)};
+    return {dc, double(ic) / n};
 }
 
 }  // namespace
@@ -92,28 +109,35 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
         // outline then still gets half as many again.
         if (result.rounds == 0) cap = std::max<long>(cap, 3L * C * R / 2);
         // Worst deviation per knot interval.
-        std::vector<double> devU(static_cast<size_t>(C), 0.0), devV(static_cast<size_t>(R), 0.0);
+        std::vector<EdgeDeviation> devU(static_cast<size_t>(C)), devV(static_cast<size_t>(R));
         result.maxDeviation = 0;
         for (const BoundaryEdge& e : boundaryEdges(m)) {
-            const double d = edgeDeviation(grid, m, e);
-            result.maxDeviation = std::max(result.maxDeviation, d);
-            double& slot = e.splitsU ? devU[static_cast<size_t>(e.interval)]
-                                     : devV[static_cast<size_t>(e.interval)];
-            slot = std::max(slot, d);
+            const EdgeDeviation d = edgeDeviation(grid, m, e);
+            result.maxDeviation = std::max(result.maxDeviation, d.distance);
+            EdgeDeviation& slot = e.splitsU ? devU[static_cast<size_t>(e.interval)]
+                                            : devV[static_cast<size_t>(e.interval)];
+            if (d.distance > slot.distance) slot = d;
         }
         if (result.maxDeviation <= fit.tolerance || result.rounds >= fit.maxRounds) break;
         struct Split {
             double dev;
             bool alongU;
             int interval;
+            double knot;
+        };
+        // The new knot goes where the edge strays most (kept within the interval's middle
+        // part so that neither half becomes a sliver): one knot where the outline needs it
+        // does what several halvings would.
+        auto knotAt = [&](const std::vector<double>& k, int i, double where) {
+            return k[i] + std::clamp(where, fit.knotMargin, 1 - fit.knotMargin) * (k[i + 1] - k[i]);
         };
         std::vector<Split> splits;
         for (int i = 0; i < C; ++i)
-            if (devU[i] > fit.tolerance && m.u[i + 1] - m.u[i] >= 2 * minU)
-                splits.push_back({devU[i], true, i});
+            if (devU[i].distance > fit.tolerance && m.u[i + 1] - m.u[i] >= 2 * minU)
+                splits.push_back({devU[i].distance, true, i, knotAt(m.u, i, devU[i].where)});
         for (int j = 0; j < R; ++j)
-            if (devV[j] > fit.tolerance && m.v[j + 1] - m.v[j] >= 2 * minV)
-                splits.push_back({devV[j], false, j});
+            if (devV[j].distance > fit.tolerance && m.v[j + 1] - m.v[j] >= 2 * minV)
+                splits.push_back({devV[j].distance, false, j, knotAt(m.v, j, devV[j].where)});
         std::stable_sort(splits.begin(), splits.end(),
                          [](const Split& a, const Split& b) { return a.dev > b.dev; });
         // From here on the knots are explicit, so that the uniform ones do not move.
@@ -122,13 +146,14 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
         long nu = 0, nv = 0;
         bool any = false;
         for (const Split& s : splits) {
+            if (s.dev < fit.roundFraction * splits.front().dev) break;
             const long patches = (C + nu + s.alongU) * (R + nv + !s.alongU);
             if (patches > cap) continue;
             if (s.alongU) {
-                options.knotsU.push_back(0.5 * (m.u[s.interval] + m.u[s.interval + 1]));
+                options.knotsU.push_back(s.knot);
                 ++nu;
             } else {
-                options.knotsV.push_back(0.5 * (m.v[s.interval] + m.v[s.interval + 1]));
+                options.knotsV.push_back(s.knot);
                 ++nv;
             }
             any = true;
