@@ -246,6 +246,10 @@ def main():
         dev = [g["outline_deviation"] for g in r["regions"] if "outline_deviation" in g]
         if dev:
             notes.append("outline deviation %.2f px" % max(dev))
+        hole_px = sum(g.get("hole_pixels", 0) for g in r["regions"])
+        if hole_px:
+            painted = sum(g.get("hole_pixels_painted", 0) for g in r["regions"])
+            notes.append("hole pixels %d, %.2f%% left unpainted" % (hole_px, 100.0 * (1 - painted / hole_px)))
         if r["patches"] > 400 * len(r["regions"]):
             notes.append("over the 400-patch budget")
         notes.append("wall with --report %s s" % fmt(report_wall))

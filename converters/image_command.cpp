@@ -340,6 +340,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"feature_solves\": " << r.featureSolves
           << ", \"outline_deviation\": " << r.outlineDeviation
           << ", \"outline_knots\": " << r.outlineKnots
+          << ", \"hole_pixels\": " << r.holePixels << ", \"hole_pixels_painted\": " << r.holePixelsPainted
           << ",\n     \"seconds\": " << secondsJson(r.seconds)
           << ",\n     \"error\": " << errorJson(r.error) << ",\n     \"refinement\": [";
         for (size_t j = 0; j < r.refinement.size(); ++j) {

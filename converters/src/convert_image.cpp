@@ -198,6 +198,45 @@ FitError measureMeshes(const std::vector<GradientMesh>& meshes, const RgbaImage&
     return compareOverMask(image, renderDocument(d, RenderOptions{}).image, region.mask);
 }
 
+// The region's hole pixels (background not 4-connected to the image border, as regions.cpp
+// finds holes) and how many of them `meshes` paint (alpha ≥ 0.5). One render, only for regions
+// with holes.
+void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region, RegionReport& rr) {
+    rr.holePixels = rr.holePixelsPainted = 0;
+    if (region.holes.empty()) return;
+    const int w = region.width, h = region.height;
+    std::vector<uint8_t> outside(region.mask.size(), 0);
+    std::vector<size_t> stack;
+    auto push = [&](int x, int y) {
+        const size_t k = static_cast<size_t>(y) * w + x;
+        if (!region.mask[k] && !outside[k]) {
+            outside[k] = 1;
+            stack.push_back(k);
+        }
+    };
+    for (int x = 0; x < w; ++x) push(x, 0), push(x, h - 1);
+    for (int y = 0; y < h; ++y) push(0, y), push(w - 1, y);
+    while (!stack.empty()) {
+        const size_t k = stack.back();
+        stack.pop_back();
+        const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
+        if (x > 0) push(x - 1, y);
+        if (x + 1 < w) push(x + 1, y);
+        if (y > 0) push(x, y - 1);
+        if (y + 1 < h) push(x, y + 1);
+    }
+    Document d;
+    d.width = w;
+    d.height = h;
+    d.meshes = meshes;
+    const RgbaImage render = renderDocument(d, RenderOptions{}).image;
+    for (size_t k = 0; k < outside.size(); ++k) {
+        if (region.mask[k] || outside[k]) continue;
+        ++rr.holePixels;
+        if (render.pixels[k * 4 + 3] >= 0.5f) ++rr.holePixelsPainted;
+    }
+}
+
 // The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
 // thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
 // parts): its core without the parts thinner than 2·radius+1 px, and each
@@ -337,6 +376,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
                     // No parts: the whole region's mesh stays.
                 }
             }
+            measureHoles(meshes, region, rrs[0]);
             for (GradientMesh& m : meshes) doc.meshes.push_back(std::move(m));
         } catch (const Error& e) {
             if (!e.file().empty()) throw;

@@ -160,6 +160,16 @@ TEST_CASE("an annulus becomes one mesh with one slit and a clean hole", "[conver
     const double e = meanError(o.render, image, mask);
     CHECK(e < 2);
     CHECK(o.report.regions[0].outlineDeviation <= 0.6);
+    // The report counts the hole's pixels (π·30² ≈ 2827) and how many the mesh paints.
+    const RegionReport& rr = o.report.regions[0];
+    CHECK(std::abs(rr.holePixels - 2827) < 120);
+    long painted = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            painted += !mask.mask[static_cast<size_t>(y) * W + x] && discSdf(x + .5, y + .5, 100, 100, 80) < 0 &&
+                       alphaAt(o.render, x, y) >= 0.5f;
+    CHECK(rr.holePixelsPainted == painted);
+    CHECK(rr.holePixelsPainted <= rr.holePixels / 100);
     // Nothing far outside the outer circle is painted.
     long outCovered = 0;
     for (int y = 0; y < H; ++y)

@@ -59,6 +59,10 @@ struct RegionReport {
     int featureSolves = 0;
     double outlineDeviation = 0;  // pixels: boundary curves against the traced outline
     int outlineKnots = 0;         // knots added so the boundary follows the outline
+    // The region's hole pixels (background not 4-connected to the outside) and how many of
+    // them the region's own meshes paint (alpha ≥ 0.5): a hole must stay a hole. On the
+    // region's first report only (a region converted in parts counts all its meshes there).
+    long holePixels = 0, holePixelsPainted = 0;
 };
 
 struct ConvertReport {
