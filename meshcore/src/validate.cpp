@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "meshcore/evaluate.h"
+
 namespace gm {
 
 namespace {
@@ -77,6 +79,22 @@ std::string validateDocument(const Document& doc) {
         if (auto e = validateMesh(doc.meshes[k]); !e.empty())
             return "mesh " + std::to_string(k) + ": " + e;
     return {};
+}
+
+int countFoldedPatches(const GradientMesh& mesh, int samples) {
+    int folded = 0;
+    for (int j = 0; j < mesh.rows(); ++j)
+        for (int i = 0; i < mesh.columns(); ++i) {
+            const PatchHermite h = patchHermite(mesh, i, j);
+            bool fold = false;
+            for (int a = 0; a < samples && !fold; ++a)
+                for (int b = 0; b < samples && !fold; ++b) {
+                    const PatchPoint p = evaluatePatch(h, (a + 0.5) / samples, (b + 0.5) / samples);
+                    fold = p.posS.x * p.posT.y - p.posS.y * p.posT.x <= 0;
+                }
+            folded += fold;
+        }
+    return folded;
 }
 
 }  // namespace gm

@@ -57,3 +57,19 @@ TEST_CASE("validation names each broken invariant", "[validate]") {
         CHECK_THAT(validateDocument(d), Contains("canvas"));
     }
 }
+
+TEST_CASE("folded patches are counted", "[validate][folds]") {
+    GradientMesh m = makeCurvedMesh(5, 4, 0, 0, 100, 100);
+    CHECK(countFoldedPatches(m) == 0);
+    CHECK(countFoldedPatches(makeHoledMesh(3, 0, 0, 100, 300)) == 0);
+    // Drag one interior node across its right neighbour: the patches around it fold.
+    Node& n = m.node(2, 2);
+    n.pos = m.node(4, 2).pos + Vec2{5, 0};
+    const int folded = countFoldedPatches(m);
+    CHECK(folded >= 2);
+    CHECK(folded <= 8);
+    // A patch whose u tangents point backwards (a loop along its edges) folds too.
+    GradientMesh l = makeCurvedMesh(1, 1, 0, 0, 100, 100);
+    for (Node& k : l.nodes) k.posU = -3.0 * k.posU;
+    CHECK(countFoldedPatches(l) == 1);
+}

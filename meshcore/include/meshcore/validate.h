@@ -16,4 +16,9 @@ std::string validateMesh(const GradientMesh& mesh);
 // As above for every mesh, plus a positive canvas size; the message names the mesh.
 std::string validateDocument(const Document& doc);
 
+// Patches that fold: the Jacobian of position (d pos/ds × d pos/dt) is ≤ 0 at one of
+// `samples`² points strictly inside the patch (a fold shows as grid lines crossing and the
+// patch painting over itself or its neighbours). A valid mesh may fold; a good one does not.
+int countFoldedPatches(const GradientMesh& mesh, int samples = 6);
+
 }  // namespace gm
