@@ -302,9 +302,16 @@ namespace {
 // Least-squares fit of the derivative slots of a family of grid lines: each patch edge
 // contributes samples q(τ) of the iso-curve, modelled by the Hermite cubic
 // h0·Pa + h1·Pb + h2·Δ·σa·Da + h3·Δ·σb·Db; D are the unknown slots (pixels per global unit).
+//
+// With a tangent limit L > 0, each solved slot is then shortened, where needed, so that on every
+// edge it belongs to the end tangent (slot × Δ) is at most L times the edge's chord: one
+// derivative shared by a short interval and a long one (knots bunch where the map is uneven)
+// would otherwise make the short edge overshoot into a loop, and its patches fold.
 class DerivativeFit {
 public:
-    explicit DerivativeFit(int slots) : slots_(slots), rhsX_(slots, 0.0), rhsY_(slots, 0.0) {}
+    DerivativeFit(int slots, double tangentLimit)
+        : slots_(slots), tangentLimit_(tangentLimit), rhsX_(slots, 0.0), rhsY_(slots, 0.0),
+          limit_(static_cast<size_t>(slots), INFINITY) {}
 
     // One patch edge of parameter length `delta` from Pa to Pb, with interior samples q at
     // local parameters tau.
@@ -331,6 +338,11 @@ public:
         bb += w;
         ra = ra + (w * signA) * chord;
         rb = rb + (w * signB) * chord;
+        if (tangentLimit_ > 0) {
+            const double cap = tangentLimit_ * norm(pb - pa) / delta;
+            limit_[slotA] = std::min(limit_[slotA], cap);
+            limit_[slotB] = std::min(limit_[slotB], cap);
+        }
         triplets_.emplace_back(slotA, slotA, aa);
         triplets_.emplace_back(slotB, slotB, bb);
         triplets_.emplace_back(slotA, slotB, ab);
@@ -352,14 +364,20 @@ public:
         Eigen::VectorXd bx = Eigen::Map<Eigen::VectorXd>(rhsX_.data(), slots_);
         Eigen::VectorXd by = Eigen::Map<Eigen::VectorXd>(rhsY_.data(), slots_);
         const Eigen::VectorXd x = ldlt.solve(bx), y = ldlt.solve(by);
-        for (int k = 0; k < slots_; ++k) out[k] = {x[k], y[k]};
+        for (int k = 0; k < slots_; ++k) {
+            out[k] = {x[k], y[k]};
+            const double len = norm(out[k]);
+            if (len > limit_[k]) out[k] = (limit_[k] / len) * out[k];
+        }
         return out;
     }
 
 private:
     int slots_;
+    double tangentLimit_;
     std::vector<Eigen::Triplet<double>> triplets_;
     std::vector<double> rhsX_, rhsY_;
+    std::vector<double> limit_;  // per slot: the largest length its edges allow
 };
 
 }  // namespace
@@ -441,7 +459,7 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
     std::vector<Vec2> q(static_cast<size_t>(nSamples));
 
     // u: the patch edges along each row. On a slit run there are two edges (above, below).
-    DerivativeFit fitU(nSlotsU);
+    DerivativeFit fitU(nSlotsU, options.tangentLimit);
     for (int j = 0; j <= R; ++j) {
         for (int i = 0; i < C; ++i) {
             const double du = mesh.u[i + 1] - mesh.u[i];
@@ -474,7 +492,7 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
 
     // v: the patch edges along each column; an edge leaving a slit row downward starts at the
     // below copy.
-    DerivativeFit fitV(nSlotsV);
+    DerivativeFit fitV(nSlotsV, options.tangentLimit);
     for (int i = 0; i <= C; ++i) {
         for (int j = 0; j < R; ++j) {
             const double dv = mesh.v[j + 1] - mesh.v[j];

@@ -240,3 +240,25 @@ TEST_CASE("bad maps are rejected", "[grid]") {
     o.slits = {{0, 2, 5}};
     CHECK_THROWS_AS(buildGrid(s.tri, s.map, o), Error);
 }
+
+TEST_CASE("node derivatives are shortened where knot intervals are uneven, so patches do not fold", "[grid][folds]") {
+    // Along v the map crawls (0.2 px per unit) up to v = 10, then runs (2.2 px per unit): the
+    // derivative shared at v = 10 fits the long interval and is ten times too long for the
+    // short one, whose edges then loop.
+    auto f = [](double u, double v) {
+        return Vec2{20 + u, 20 + (v < 10 ? 0.2 * v : 2 + 2.2 * (v - 10))};
+    };
+    const auto s = gmtest::makeSynthetic(100, 100, 20, 200, f, 160, 260);
+    GridOptions o;
+    o.knotsU = {0, 50, 100};
+    o.knotsV = {0, 10, 100};
+    o.tangentLimit = 0;
+    const GradientMesh loose = buildGrid(s.tri, s.map, o);
+    o.tangentLimit = 1.5;
+    const GradientMesh limited = buildGrid(s.tri, s.map, o);
+    INFO("folded without the limit: " << countFoldedPatches(loose) << ", with: "
+                                      << countFoldedPatches(limited));
+    CHECK(countFoldedPatches(loose) > 0);
+    CHECK(countFoldedPatches(limited) == 0);
+    CHECK(validateMesh(limited).empty());
+}

@@ -38,6 +38,11 @@ struct GridOptions {
     std::vector<double> knotsU, knotsV;
     // Points per patch edge sampled through the inverse map to fit the position derivatives.
     int samplesPerEdge = 8;
+    // Each node derivative is shortened so that on every patch edge it belongs to, its tangent
+    // (derivative × the edge's knot interval) is at most this many times the edge's chord
+    // (0: no limit). A cubic whose end tangents stay within ~1.5 chords does not loop, and
+    // patches between such edges do not fold where knot intervals are uneven.
+    double tangentLimit = 1.5;
 };
 
 // The knot vectors buildGrid uses for these options: required knots (0, the extent, extras,
