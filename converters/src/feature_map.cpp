@@ -23,7 +23,8 @@ struct SmoothedWindow {
     }
 };
 
-SmoothedWindow smoothWindow(const RgbaImage& image, int x0, int y0, int x1, int y1, double sigma) {
+SmoothedWindow smoothWindow(const RgbaImage& image, const std::vector<uint8_t>* mask, int x0,
+                            int y0, int x1, int y1, double sigma) {
     SmoothedWindow s;
     s.x0 = x0, s.y0 = y0, s.w = x1 - x0, s.h = y1 - y0;
     const size_t n = static_cast<size_t>(s.w) * s.h;
@@ -31,7 +32,8 @@ SmoothedWindow smoothWindow(const RgbaImage& image, int x0, int y0, int x1, int 
     for (int y = 0; y < s.h; ++y)
         for (int x = 0; x < s.w; ++x) {
             const float* p = image.at(x0 + x, y0 + y);
-            const double a = std::clamp(static_cast<double>(p[3]), 0.0, 1.0);
+            const bool in = !mask || (*mask)[static_cast<size_t>(y0 + y) * image.width + x0 + x];
+            const double a = in ? std::clamp(static_cast<double>(p[3]), 0.0, 1.0) : 0.0;
             double* q = &cur[(static_cast<size_t>(y) * s.w + x) * 4];
             for (int c = 0; c < 3; ++c) q[c] = a * p[c];
             q[3] = a;
@@ -136,10 +138,12 @@ double stretchOf(const TriMesh& mesh, const std::vector<Vec2>& uv,
 }  // namespace
 
 std::vector<FeatureCoords> featureCoordinates(const TriMesh& mesh, const RgbaImage& image, double w,
-                                              double smoothing) {
+                                              double smoothing, const std::vector<uint8_t>* mask) {
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != static_cast<size_t>(image.width) * image.height * 4)
         throw Error("feature map: the image is empty or its pixel buffer has the wrong size");
+    if (mask && mask->size() != static_cast<size_t>(image.width) * image.height)
+        throw Error("feature map: the mask's size differs from the image's");
     std::vector<FeatureCoords> f(mesh.vertices.size());
     if (mesh.vertices.empty()) return f;
     double minX = INFINITY, minY = INFINITY, maxX = -INFINITY, maxY = -INFINITY;
@@ -153,7 +157,7 @@ std::vector<FeatureCoords> featureCoordinates(const TriMesh& mesh, const RgbaIma
     const int x0 = clampX(std::floor(minX) - margin), x1 = clampX(std::ceil(maxX) + margin);
     const int y0 = clampY(std::floor(minY) - margin), y1 = clampY(std::ceil(maxY) + margin);
     if (x1 <= x0 || y1 <= y0) throw Error("feature map: the triangulation lies outside the image");
-    const SmoothedWindow s = smoothWindow(image, x0, y0, x1, y1, smoothing);
+    const SmoothedWindow s = smoothWindow(image, mask, x0, y0, x1, y1, smoothing);
 
     for (size_t i = 0; i < mesh.vertices.size(); ++i) {
         const Vec2 p = mesh.vertices[i];
@@ -199,7 +203,7 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
     if (!(options.w >= 0) || !(options.eta > 0) || !(options.smoothing >= 0))
         throw Error("feature map: w and smoothing must be non-negative and eta positive");
 
-    const std::vector<FeatureCoords> f = featureCoordinates(mesh, image, options.w, options.smoothing);
+    const std::vector<FeatureCoords> f = featureCoordinates(mesh, image, options.w, options.smoothing, options.mask);
 
     // Loop vertices never move; interior vertices whose solve folds a triangle are frozen too.
     std::vector<char> frozen(nv, 0);

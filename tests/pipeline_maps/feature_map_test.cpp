@@ -129,6 +129,36 @@ TEST_CASE("feature coordinates carry the weighted image gradient", "[feature_map
     }
 }
 
+TEST_CASE("with a mask, the region's outline against the background is no feature", "[feature_map]") {
+    // A grey square on white: without the mask the vertices along its edge see the step to the
+    // background; with the square as the mask they see none.
+    TriMesh mesh = squareGrid(4, 100, 0);
+    for (Vec2& v : mesh.vertices) v = v + Vec2{30, 30};
+    RgbaImage img(160, 160);
+    std::vector<uint8_t> mask(160 * 160, 0);
+    for (int y = 0; y < 160; ++y)
+        for (int x = 0; x < 160; ++x) {
+            const bool in = x >= 30 && x < 130 && y >= 30 && y < 130;
+            float* p = img.at(x, y);
+            p[0] = p[1] = p[2] = in ? 0.3f : 1.0f;
+            p[3] = 1;
+            mask[static_cast<size_t>(y) * 160 + x] = in;
+        }
+    const auto plain = featureCoordinates(mesh, img, 300, 1.0);
+    const auto masked = featureCoordinates(mesh, img, 300, 1.0, &mask);
+    double plainMax = 0, maskedMax = 0;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+        for (int c = 2; c < 8; ++c) {
+            plainMax = std::max(plainMax, std::abs(plain[i][c]));
+            maskedMax = std::max(maskedMax, std::abs(masked[i][c]));
+        }
+    INFO("largest feature coordinate without the mask " << plainMax << ", with " << maskedMax);
+    CHECK(plainMax > 10);
+    CHECK(maskedMax < 1e-6);
+    const std::vector<uint8_t> wrong(10, 1);
+    CHECK_THROWS_AS(featureCoordinates(mesh, img, 300, 1.0, &wrong), Error);
+}
+
 TEST_CASE("feature map rejects a folded or mismatched initial map", "[feature_map]") {
     const TriMesh mesh = squareGrid(6, 50, 0.1);
     const RgbaImage img = rampImage(64, 64, 20, 5);

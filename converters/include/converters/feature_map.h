@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "converters/tri_mesh.h"
@@ -22,6 +23,10 @@ struct FeatureMapOptions {
     double eta = 1.0;        // weights are divided by vertex stretch to this power
     double smoothing = 1.0;  // Gaussian sigma, pixels, applied before taking image gradients
     double minGain = 1e-3;   // stop once an iteration lowers stretch by less than this fraction
+    // Image-sized, 1 inside the region: pixels outside are left out of the smoothing and the
+    // gradients as if transparent, so the region's own outline (object against background) is
+    // not a colour feature. Without it the image's alpha alone decides.
+    const std::vector<uint8_t>* mask = nullptr;
 };
 
 enum class FeatureMapStop {
@@ -43,12 +48,13 @@ struct FeatureMap {
 };
 
 // Feature coordinates of every TriMesh vertex. The image is smoothed with a Gaussian of the given
-// sigma by normalised convolution with alpha as the weight, so pixels of alpha 0 (outside the
-// object: pass the region's mask as alpha to keep neighbouring regions out) never enter; the
+// sigma by normalised convolution with alpha (times `mask`, when given) as the weight, so pixels
+// of alpha 0 or outside the mask (the background, neighbouring regions) never enter; the
 // gradient is sampled bilinearly at each vertex from central differences at pixel centres
 // (pixel (x, y) has its centre at (x + .5, y + .5)). Throws gm::Error on an empty image.
 std::vector<FeatureCoords> featureCoordinates(const TriMesh& mesh, const RgbaImage& image, double w,
-                                              double smoothing);
+                                              double smoothing,
+                                              const std::vector<uint8_t>* mask = nullptr);
 
 // Sander et al.'s normalised total L2 stretch of the map from parameter space onto the feature
 // coordinates (1 when the map is a uniform scaling of the metric, larger otherwise). Every
