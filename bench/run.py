@@ -246,6 +246,11 @@ def main():
         dev = [g["outline_deviation"] for g in r["regions"] if "outline_deviation" in g]
         if dev:
             notes.append("outline deviation %.2f px" % max(dev))
+        folded = sum(g.get("folded_patches", 0) for g in r["regions"])
+        notes.append("%d folded patches" % folded)
+        topo = sum(1 for g in r["regions"] if g.get("feature_map") is False)
+        if topo:
+            notes.append("%d of %d meshes on the topology map" % (topo, len(r["regions"])))
         hole_px = sum(g.get("hole_pixels", 0) for g in r["regions"])
         if hole_px:
             painted = sum(g.get("hole_pixels_painted", 0) for g in r["regions"])

@@ -341,6 +341,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"outline_deviation\": " << r.outlineDeviation
           << ", \"outline_knots\": " << r.outlineKnots
           << ", \"hole_pixels\": " << r.holePixels << ", \"hole_pixels_painted\": " << r.holePixelsPainted
+          << ", \"feature_map\": " << (r.featureMapUsed ? "true" : "false")
+          << ", \"folded_patches\": " << r.foldedPatches
           << ",\n     \"seconds\": " << secondsJson(r.seconds)
           << ",\n     \"error\": " << errorJson(r.error) << ",\n     \"refinement\": [";
         for (size_t j = 0; j < r.refinement.size(); ++j) {

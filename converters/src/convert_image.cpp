@@ -14,6 +14,7 @@
 #include "converters/triangulate.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
+#include "meshcore/validate.h"
 
 namespace gm {
 
@@ -77,6 +78,8 @@ struct RegionGeometry {
     std::unique_ptr<GridBuilder> grid;
     GridOptions go;
     BoundaryFitResult fitted;
+    int foldedPatches = 0;        // of the boundary-fitted grid
+    bool featureMapUsed = true;   // false: the grid follows the topology map
     StageSeconds seconds;
 };
 
@@ -98,23 +101,44 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     g->seconds.topology = since(t0);
 
     t0 = Clock::now();
-    g->feature = buildFeatureMap(g->tri, g->topo.map, image);
+    FeatureMapOptions fo;
+    fo.mask = &region.mask;  // the outline against the background is not a feature
+    g->feature = buildFeatureMap(g->tri, g->topo.map, image, fo);
     g->seconds.feature = since(t0);
     if (const int flips = countFlippedTriangles(g->tri, g->feature.map); flips != 0)
         throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
 
     t0 = Clock::now();
-    g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
     // The initial grid takes at most a quarter of the patch budget: the rest is for the
     // outline and the colours.
-    g->go.targetPatchSize =
+    GridOptions base;
+    base.targetPatchSize =
         std::max(options.targetPatchSize,
                  std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
-    for (const SlitInfo& slit : g->topo.slits) g->go.slits.push_back({slit.v, slit.u0, slit.u1});
+    for (const SlitInfo& slit : g->topo.slits) base.slits.push_back({slit.v, slit.u0, slit.u1});
     BoundaryFitOptions bf;
     bf.maxPatches = options.maxPatches;
     bf.tolerance = options.outlineTolerance;
+    g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
+    g->go = base;
     g->fitted = fitBoundary(*g->grid, g->go, bf);
+    g->foldedPatches = countFoldedPatches(g->grid->build(g->go));
+    if (g->foldedPatches > 0) {
+        // Stretch minimisation can bend the iso-curves more than cubic patches between the
+        // knots follow (thin limbs of a silhouette): their patches fold. The topology map's
+        // iso-curves are smoother; it is kept when its grid folds less.
+        auto grid = std::make_unique<GridBuilder>(g->tri, g->topo.map);
+        GridOptions go = base;
+        const BoundaryFitResult fitted = fitBoundary(*grid, go, bf);
+        const int folded = countFoldedPatches(grid->build(go));
+        if (folded < g->foldedPatches) {
+            g->grid = std::move(grid);
+            g->go = std::move(go);
+            g->fitted = fitted;
+            g->foldedPatches = folded;
+            g->featureMapUsed = false;
+        }
+    }
     g->seconds.mesh = since(t0);
     return g;
 }
@@ -169,6 +193,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     rr.flippedTriangles = 0;
     rr.outlineDeviation = g->fitted.maxDeviation;
     rr.outlineKnots = g->fitted.addedU + g->fitted.addedV;
+    rr.featureMapUsed = g->featureMapUsed;
 
     t0 = Clock::now();
     RefineOptions rf;
@@ -184,6 +209,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     rr.patches = refined.mesh.patchCount();
     rr.error = refined.error;
     rr.refinement = refined.steps;
+    rr.foldedPatches = countFoldedPatches(refined.mesh);
     return std::move(refined.mesh);
 }
 

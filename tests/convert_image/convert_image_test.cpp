@@ -129,16 +129,19 @@ TEST_CASE("the outline follows a disc with a narrow nose", "[convert][outline]")
             const double d = sdf(x + .5, y + .5);
             if (d <= 0 || alphaAt(o.render, x, y) < 0.5f) continue;
             farthestCovered = std::max(farthestCovered, d);
-            if (d > 1.5) ++outCovered;
+            // The traced outline (0.8 px blur, level 0.35) fills the concave junction of nose
+            // and disc by up to ~1 px; the fit adds its 0.5 px tolerance.
+            if (d > 2.0) ++outCovered;
         }
     for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) nOut += sdf(x + .5, y + .5) > 1.5;
+        for (int x = 0; x < W; ++x) nOut += sdf(x + .5, y + .5) > 2.0;
     const double e = meanError(o.render, image, mask);
     note("disc+nose: %.3f s, %dx%d patches, outline deviation %.3f px (%d knots), nose covered "
-         "%.4f of %ld px, region covered %.4f of %ld px, covered outside >1.5 px: %ld of %ld "
+         "%.4f of %ld px, region covered %.4f of %ld px, covered outside >2 px: %ld of %ld "
          "(farthest %.2f px), E %.3f (report %.3f)",
          o.seconds, rr.columns, rr.rows, rr.outlineDeviation, rr.outlineKnots, nose, nNose, all,
          nAll, outCovered, nOut, farthestCovered, e, rr.error.meanAbs);
+    note("disc+nose: feature map %d, folded patches %d", int(rr.featureMapUsed), rr.foldedPatches);
     CHECK(nNose > 150);
     CHECK(nose >= 0.95);
     CHECK(all >= 0.995);
@@ -469,4 +472,37 @@ TEST_CASE("a body with six long thin legs converts in parts, every pixel covered
     const Fidelity f = fidelity(o.render, sdf);
     CHECK(f.spill == 0);
     CHECK(f.bite == 0);
+}
+
+TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[convert][folds]") {
+    // Stretch minimisation bends the map's iso-curves around the legs, neck and tail more than
+    // cubic patches between knots follow: on this silhouette its grid folded 250 of ~400
+    // patches. The topology map's grid is used where it folds less.
+    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/horse.png");
+    ObjectMask mask;
+    mask.width = image.width;
+    mask.height = image.height;
+    mask.source = MaskSource::MaskImage;
+    mask.mask.resize(static_cast<size_t>(image.width) * image.height);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = image.at(x, y);  // the silhouette is dark (as bench/make_samples)
+            mask.mask[static_cast<size_t>(y) * image.width + x] = (p[0] + p[1] + p[2]) / 3 < 0.5f;
+        }
+    const Outcome o = convert(image, mask, ConvertOptions{}, "horse");
+    requireConverted(o, "horse");
+    saveRender(o.render, "horse_folds.png");
+    int folded = 0, patches = 0;
+    for (const RegionReport& rr : o.report.regions) {
+        folded += rr.foldedPatches;
+        patches += rr.patches;
+    }
+    int counted = 0;  // independently, on the written meshes
+    for (const GradientMesh& m : o.doc.meshes) counted += countFoldedPatches(m);
+    note("horse: %zu meshes, %d patches, %d folded (first: feature map %d), E %.3f, uncovered %.5f",
+         o.doc.meshes.size(), patches, folded, int(o.report.regions[0].featureMapUsed),
+         o.report.error.meanAbs, o.report.error.uncovered);
+    CHECK(counted == folded);
+    CHECK(folded <= patches / 40);
+    CHECK(o.report.error.uncovered < 0.001);
 }

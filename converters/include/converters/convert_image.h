@@ -63,6 +63,8 @@ struct RegionReport {
     // them the region's own meshes paint (alpha ≥ 0.5): a hole must stay a hole. On the
     // region's first report only (a region converted in parts counts all its meshes there).
     long holePixels = 0, holePixelsPainted = 0;
+    bool featureMapUsed = true;  // false: the topology map gave a grid that folds less
+    int foldedPatches = 0;       // patches of the final mesh that fold (countFoldedPatches)
 };
 
 struct ConvertReport {
