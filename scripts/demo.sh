@@ -17,6 +17,7 @@ $gm convert out/apple.gmb -o out/apple-editable.svg --svg-colors editable
 $gm convert out/apple.gmb -o out/apple.eps
 $gm convert out/apple.gmb -o out/apple.pdf
 $gm render out/apple.gmb -o out/apple.png --background white
+$gm render out/apple.gmb -o out/apple-mesh.png --scale 2 --background white --mesh-lines '#2040ff'   # the mesh's grid
 $gm compare samples/apple.jpg out/apple.png --mask samples/apple_mask.png
 # An object with holes: one mesh per region, one slit per hole; --legacy writes hole-free pieces.
 $gm convert samples/pic1.png -o out/pic1.gmb --report out/pic1.json
@@ -24,6 +25,7 @@ $gm info out/pic1.gmb
 $gm convert out/pic1.gmb -o out/pic1.svg
 $gm convert out/pic1.gmb -o out/pic1-legacy.pdf --legacy
 $gm render out/pic1.gmb -o out/pic1.png --background white
+$gm render out/pic1.gmb -o out/pic1-mesh.png --scale 2 --background white --mesh-lines '#ff2080'
 # A whole image: segmented into large regions, one mesh each (holes included) over a base mesh.
 $gm convert samples/fruits.jpg --segment -o out/fruits.gmb --report out/fruits.json
 $gm convert out/fruits.gmb -o out/fruits.svg --svg-colors editable   # the exact-colour SVG of a whole image is ~300 MB
