@@ -111,14 +111,19 @@ BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
         // Worst deviation per knot interval.
         std::vector<EdgeDeviation> devU(static_cast<size_t>(C)), devV(static_cast<size_t>(R));
         result.maxDeviation = 0;
+        double worstScaled = 0;  // deviations in units of each edge's own tolerance × tolerance
         for (const BoundaryEdge& e : boundaryEdges(m)) {
-            const EdgeDeviation d = edgeDeviation(grid, m, e);
+            EdgeDeviation d = edgeDeviation(grid, m, e);
             result.maxDeviation = std::max(result.maxDeviation, d.distance);
+            // Hole outlines are held to their own (tighter) tolerance: a small hole loses a
+            // large share of its pixels to a half-pixel stray.
+            if (e.side != 0) d.distance *= fit.tolerance / std::max(1e-3, fit.holeTolerance);
+            worstScaled = std::max(worstScaled, d.distance);
             EdgeDeviation& slot = e.splitsU ? devU[static_cast<size_t>(e.interval)]
                                             : devV[static_cast<size_t>(e.interval)];
             if (d.distance > slot.distance) slot = d;
         }
-        if (result.maxDeviation <= fit.tolerance || result.rounds >= fit.maxRounds) break;
+        if (worstScaled <= fit.tolerance || result.rounds >= fit.maxRounds) break;
         struct Split {
             double dev;
             bool alongU;

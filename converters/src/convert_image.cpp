@@ -119,6 +119,7 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     BoundaryFitOptions bf;
     bf.maxPatches = options.maxPatches;
     bf.tolerance = options.outlineTolerance;
+    bf.holeTolerance = options.holeTolerance;
     g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
     g->go = base;
     g->fitted = fitBoundary(*g->grid, g->go, bf);

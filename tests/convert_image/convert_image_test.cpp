@@ -506,3 +506,38 @@ TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[con
     CHECK(folded <= patches / 40);
     CHECK(o.report.error.uncovered < 0.001);
 }
+
+TEST_CASE("small holes keep their pixels unpainted: hole outlines have a tighter tolerance", "[convert][holes][small]") {
+    // Eight holes of radius 4-7 px (50-150 px each): a half-pixel stray of their outline would
+    // paint a large share of them.
+    const int W = 220, H = 220;
+    std::vector<Hole> holes;
+    const double radii[8] = {4, 5, 6, 7, 4.5, 5.5, 6.5, 5};
+    for (int k = 0; k < 8; ++k) {
+        const double a = 2 * M_PI * k / 8 + 0.3;
+        holes.push_back({110 + 55 * std::cos(a), 110 + 55 * std::sin(a), radii[k]});
+    }
+    const Sdf sdf = discWithHoles(110, 110, 95, holes);
+    const RgbaImage image = smoothImage(W, H);
+    const ObjectMask mask = maskFromSdf(W, H, sdf);
+    auto run = [&](double holeTolerance, long& holePx, long& painted) {
+        ConvertOptions co;
+        co.holeTolerance = holeTolerance;
+        const Outcome o = convert(image, mask, co, "small holes");
+        requireConverted(o, "small holes");
+        REQUIRE(o.doc.meshes.size() == 1);
+        CHECK(o.doc.meshes[0].holeCount() == 8);
+        holePx = o.report.regions[0].holePixels;
+        painted = o.report.regions[0].holePixelsPainted;
+        return o.report.error.uncovered;
+    };
+    long px = 0, tight = 0, loosePx = 0, loose = 0;
+    const double uncovered = run(0.2, px, tight);
+    run(0.5, loosePx, loose);
+    note("small holes: %ld hole pixels; painted %ld with hole tolerance 0.2 px, %ld with 0.5 px; "
+         "region uncovered %.5f", px, tight, loose, uncovered);
+    CHECK(px > 600);
+    CHECK(tight * 1000 <= px * 15);  // at most 1.5 % (holes this small: 9 of 765 px)
+    CHECK(tight < loose);
+    CHECK(uncovered < 0.005);
+}

@@ -12,6 +12,7 @@ namespace gm {
 
 struct BoundaryFitOptions {
     double tolerance = 0.5;   // pixels: Hausdorff distance to the outline
+    double holeTolerance = 0.2;  // pixels: the same for hole outlines (both sides of a slit)
     int maxPatches = 400;     // the grid never grows past this many patches (or 1.5 times the
                               // initial grid's, when its slits alone need more)
     int maxRounds = 40;

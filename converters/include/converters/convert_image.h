@@ -25,6 +25,7 @@ struct ConvertOptions {
     double targetPatchSize = 96;  // pixels: the initial grid's patch size
     double outerLevel = 0.35;     // RegionOptions::outerLevel
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
+    double holeTolerance = 0.2;      // pixels: the same for hole outlines
     int threads = 0;              // renderer threads inside one region's fit (0: all cores)
     double retryDeviation = 2.0;  // pixels: a boundary fit farther than this from the outline
                                   // is tried again with the corners at the sharpest tips, then
