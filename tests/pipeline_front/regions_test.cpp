@@ -194,3 +194,49 @@ TEST_CASE("a one-pixel object is dropped by minArea, or traced as a tiny loop", 
     CHECK(regions[0].outer.points.size() == 4);
     CHECK(polygonSignedArea(regions[0].outer) > 0);
 }
+
+TEST_CASE("a hole loop keeps off the object pixel centres along it", "[regions][holes]") {
+    // An anti-aliased annulus: object pixels along the hole have coverage just above 0.5, so the
+    // 0.5 iso-line would pass right by their centres; crossings are kept at least half way to the
+    // hole pixel, so a mesh that strays a little into the region still covers them.
+    const int w = 200, h = 200;
+    Coverage c{w, h, std::vector<float>(static_cast<size_t>(w) * h)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double r = std::hypot(x + 0.5 - 100, y + 0.5 - 100);
+            const double inner = std::clamp(r - 40.3 + 0.5, 0.0, 1.0);  // hole edge at r 40.3
+            const double outer = std::clamp(90.0 - r + 0.5, 0.0, 1.0);
+            c.values[static_cast<size_t>(y) * w + x] = static_cast<float>(std::min(inner, outer));
+        }
+    const auto regions = extractRegions(c);
+    REQUIRE(regions.size() == 1);
+    const Region& r = regions[0];
+    REQUIRE(r.holes.size() == 1);
+    const auto& hole = r.holes[0].points;
+    // Object pixels with a 4-neighbour in the hole: their centres' distance to the hole loop.
+    double sum = 0, nearest = 1e9;
+    int n = 0, under = 0;
+    auto in = [&](int x, int y) { return r.mask[static_cast<size_t>(y) * w + x] != 0; };
+    for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+            if (!in(x, y) || std::hypot(x + 0.5 - 100, y + 0.5 - 100) > 45) continue;
+            if (in(x - 1, y) && in(x + 1, y) && in(x, y - 1) && in(x, y + 1)) continue;
+            const Vec2 p{x + 0.5, y + 0.5};
+            double d = 1e9;
+            for (size_t k = 0; k < hole.size(); ++k) {
+                const Vec2 a = hole[k], b = hole[(k + 1) % hole.size()];
+                const Vec2 ab = b - a;
+                const double t = std::clamp(dot(p - a, ab) / std::max(1e-12, dot(ab, ab)), 0.0, 1.0);
+                d = std::min(d, norm(p - (a + t * ab)));
+            }
+            sum += d;
+            nearest = std::min(nearest, d);
+            under += d < 0.25;
+            ++n;
+        }
+    INFO(n << " object pixels along the hole: mean distance " << sum / n << " px, nearest "
+           << nearest << ", " << under << " nearer than 0.25 px");
+    REQUIRE(n > 200);
+    CHECK(sum / n >= 0.55);  // 0.51 when crossings could come within 0.1 px of a centre
+    CHECK(under * 10 <= n);
+}
