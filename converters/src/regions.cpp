@@ -410,21 +410,16 @@ Region buildRegion(int width, int height, const Component& comp, int compIndex,
             return pa + t * (pb - pa);
         };
     };
-    // Hole loops follow the 0.5 iso-line but never cut into an object pixel's square (the
-    // crossing at least halfway to the hole pixel): the object pixels along a hole keep half a
-    // pixel of margin against a mesh that strays a little into the region.
-    std::vector<Polygon> loops = marchingSquares(g, inside, crossingAt(0.5, 0.5));
-    // The outer loop from its own iso-line: 0.5 by default (through the pixel squares, so that a
-    // diagonal staircase stays a straight line), or a lower one that moves it outwards and never
-    // inside a pixel edge. The outer loop only moves away from the holes.
-    std::vector<Polygon> outer =
-        marchingSquares(g, inside,
-                        options.outerLevel != 0.5 ? crossingAt(options.outerLevel, 0.5)
-                                                  : crossingAt(0.5, 0.1));
-    for (auto& l : loops)
-        if (polygonSignedArea(l) > 0)
-            for (auto& o : outer)
-                if (polygonSignedArea(o) > 0) l = std::move(o);
+    std::vector<Polygon> loops = marchingSquares(g, inside, crossingAt(0.5, 0.1));
+    if (options.outerLevel != 0.5) {
+        // The outer loop again, from the lower iso-line and never inside a pixel edge; the
+        // holes keep the 0.5 iso-line. The outer loop only moves away from the holes.
+        std::vector<Polygon> grown = marchingSquares(g, inside, crossingAt(options.outerLevel, 0.5));
+        for (auto& l : loops)
+            if (polygonSignedArea(l) > 0)
+                for (auto& o : grown)
+                    if (polygonSignedArea(o) > 0) l = std::move(o);
+    }
     std::vector<Polygon*> loopPtrs;
     for (auto& l : loops) loopPtrs.push_back(&l);
     simplifyLoops(loopPtrs, options.simplifyTolerance, options.maxSegment);
