@@ -215,14 +215,19 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
 }
 
 namespace {
+// Some meshes rendered alone on a canvas of the image's size.
+RgbaImage renderMeshes(const std::vector<GradientMesh>& meshes, int width, int height) {
+    Document d;
+    d.width = width;
+    d.height = height;
+    d.meshes = meshes;
+    return renderDocument(d, RenderOptions{}).image;
+}
+
 // E and uncovered fraction of some meshes over the region's pixels (one render).
 FitError measureMeshes(const std::vector<GradientMesh>& meshes, const RgbaImage& image,
                        const Region& region) {
-    Document d;
-    d.width = image.width;
-    d.height = image.height;
-    d.meshes = meshes;
-    return compareOverMask(image, renderDocument(d, RenderOptions{}).image, region.mask);
+    return compareOverMask(image, renderMeshes(meshes, image.width, image.height), region.mask);
 }
 
 // The region's hole pixels (background not 4-connected to the image border, as regions.cpp
@@ -252,11 +257,7 @@ void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
         if (y > 0) push(x, y - 1);
         if (y + 1 < h) push(x, y + 1);
     }
-    Document d;
-    d.width = w;
-    d.height = h;
-    d.meshes = meshes;
-    const RgbaImage render = renderDocument(d, RenderOptions{}).image;
+    const RgbaImage render = renderMeshes(meshes, w, h);
     for (size_t k = 0; k < outside.size(); ++k) {
         if (region.mask[k] || outside[k]) continue;
         ++rr.holePixels;
