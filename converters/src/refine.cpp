@@ -167,6 +167,29 @@ RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, con
                 std::sort(trial.knotsU.begin(), trial.knotsU.end());
                 std::sort(trial.knotsV.begin(), trial.knotsV.end());
                 ColorResult r = computeColors(grid.build(trial), image, region, co);
+                if (r.error.meanAbs <= options.maxError && options.trimSteps > 0) {
+                    // The batch overshoots the target: the shortest prefix of it (in rank
+                    // order) that still reaches the target, by bisection, so that the last
+                    // step does not add patches the target does not ask for.
+                    size_t lo = 0, hi = batch.size();
+                    for (int step = 0; step < options.trimSteps && hi - lo > 1; ++step) {
+                        const size_t mid = (lo + hi) / 2;
+                        GridOptions shorter = go;
+                        for (size_t k = 0; k < mid; ++k)
+                            (batch[k]->alongU ? shorter.knotsU : shorter.knotsV)
+                                .push_back(batch[k]->knot);
+                        std::sort(shorter.knotsU.begin(), shorter.knotsU.end());
+                        std::sort(shorter.knotsV.begin(), shorter.knotsV.end());
+                        ColorResult rs = computeColors(grid.build(shorter), image, region, co);
+                        if (rs.error.meanAbs <= options.maxError) {
+                            hi = mid;
+                            r = std::move(rs);
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    batch.resize(hi);
+                }
                 if (r.error.meanAbs < cur.error.meanAbs) {
                     cur = std::move(r);
                     go.knotsU = cur.mesh.u;

@@ -83,6 +83,36 @@ TEST_CASE("refinement stops at the target error when the budget allows", "[refin
                                   << r.mesh.rows() << " patches");
 }
 
+TEST_CASE("a batch that overshoots the target is cut to what the target needs", "[refine]") {
+    // Busier colours than `smooth`: late batches add tens of knots at once.
+    const auto s = disk();
+    const RgbaImage img = gmtest::paint(512, 512, [](double x, double y) {
+        return Vec3{0.5 + 0.4 * std::sin(x / 17.0) * std::cos(y / 23.0),
+                    0.5 + 0.35 * std::cos((x + 2 * y) / 29.0), 0.45 + 0.4 * std::sin(y / 13.0)};
+    });
+    GridOptions go;
+    go.columns = go.rows = 2;
+    int fewer = 0;
+    for (double target : {1.0, 2.0, 3.0, 5.0}) {
+        RefineOptions ro;
+        ro.maxError = target;
+        ro.maxPatches = 2000;
+        ro.trimSteps = 0;
+        const RefineResult whole = refineMesh(s.tri, s.map, go, img, s.region, ro);
+        ro.trimSteps = 4;
+        const RefineResult cut = refineMesh(s.tri, s.map, go, img, s.region, ro);
+        checkSequence(cut, ro);
+        REQUIRE(whole.reachedTarget);
+        CHECK(cut.reachedTarget);
+        CHECK(cut.mesh.patchCount() <= whole.mesh.patchCount());
+        if (cut.mesh.patchCount() < whole.mesh.patchCount()) ++fewer;
+        WARN("target " << target << ": whole batches " << whole.mesh.patchCount()
+                       << " patches (E " << whole.error.meanAbs << "), cut "
+                       << cut.mesh.patchCount() << " (E " << cut.error.meanAbs << ")");
+    }
+    CHECK(fewer >= 2);
+}
+
 TEST_CASE("a colour step inside the region is refined near the step", "[refine]") {
     // Identity map on a 240 x 120 rectangle: u = x - 8, v = y - 4. A vertical colour edge
     // (blurred over about a pixel) at x = 151.3, i.e. u = 143.3.

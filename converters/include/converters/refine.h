@@ -36,6 +36,9 @@ struct RefineOptions {
     // falls back to single splits.
     double batchGrowth = 1.4;
     double batchFraction = 0.25;
+    // A batch that reaches the target is cut to its shortest prefix that still does, in at
+    // most this many bisection steps (each one more fit); 0: the whole batch is kept.
+    int trimSteps = 4;
     double minInterval = 1.0;  // intervals shorter than this (parameter units ≈ pixels) are
                                // not split
     ColorOptions color;        // mode and solver settings of every refit
