@@ -33,7 +33,8 @@ const char* kImageConvertHelp =
     "                          makes 0.1% of the pixels or more transparent (alpha < 0.5);\n"
     "                          else foreground extraction (GrabCut)\n"
     "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
-    "  --max-patches N         patch budget per region (default 400)\n"
+    "  --max-patches N         patch budget per region (default 400; with --segment 8000,\n"
+    "                          and at most one patch per 8 pixels of the region)\n"
     "  --colors MODE           fit (default: least squares over the pixels) or sampled\n"
     "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
     "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
@@ -195,7 +196,9 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     const auto tStart = Clock::now();
     ConvertOptions co;
     co.maxError = number(values, "--max-error", co.maxError, 0.0, 255.0);
-    co.maxPatches = static_cast<int>(number(values, "--max-patches", co.maxPatches, 1, 1e6));
+    const bool segment = values.count("--segment") > 0;
+    co.maxPatches = static_cast<int>(number(values, "--max-patches",
+                                            segment ? kSegmentMaxPatches : co.maxPatches, 1, 1e6));
     co.minArea = static_cast<int>(number(values, "--min-area", co.minArea, 1, 1e9));
     co.minHole = static_cast<int>(number(values, "--min-hole", co.minHole, 0, 1e9));
     co.sampleFraction = number(values, "--samples", co.sampleFraction, 1e-4, 1.0);
@@ -210,7 +213,6 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
             throw std::invalid_argument("--colors expects fit or sampled, got '" + it->second +
                                         "'");
     }
-    const bool segment = values.count("--segment") > 0;
     SegmentConvertOptions so;
     so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
     so.segment.minRegion = static_cast<int>(number(values, "--min-region", 0, 1, 1e9));

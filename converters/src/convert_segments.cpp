@@ -79,8 +79,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     const int hw = std::max(1u, std::thread::hardware_concurrency());
     const int workers = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
                                                   static_cast<int>(regions.size())));
-    ConvertOptions co = options.convert;
-    if (workers > 1) co.threads = 1;
+    ConvertOptions coAll = options.convert;
+    if (workers > 1) coAll.threads = 1;
     const size_t n = regions.size();
     std::vector<GradientMesh> meshes(n);
     std::vector<RegionReport> reports(n);
@@ -102,6 +102,11 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     auto work = [&]() {
         for (size_t k; (k = next.fetch_add(1)) < n;) {
             const Region& own = regions[k];
+            ConvertOptions co = coAll;
+            if (options.pixelsPerPatch > 0)
+                co.maxPatches = std::clamp(
+                    static_cast<int>(own.pixelCount / options.pixelsPerPatch),
+                    std::min(options.minRegionPatches, co.maxPatches), co.maxPatches);
             const std::vector<uint8_t> under = later(k);
             try {
                 meshes[k] = convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,

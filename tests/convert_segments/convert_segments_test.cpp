@@ -74,6 +74,43 @@ TEST_CASE("a segmented scene converts with every pixel painted and its ring keep
     writeImage(render, std::string(GRADMESH_TMP) + "/segment_scene.png");
 }
 
+TEST_CASE("a region's budget is at most one patch per pixelsPerPatch pixels",
+          "[convert][segment]") {
+    // The scene with a finely striped box: out of reach for a low target, so the budget is
+    // what stops its refinement.
+    RgbaImage image = scene();
+    for (int y = 41; y < 170; ++y)
+        for (int x = 166; x < 225; ++x) {
+            float* p = image.at(x, y);
+            p[1] = 0.45f + 0.25f * float(std::sin(x / 1.7) * std::sin(y / 2.3));
+        }
+    SegmentConvertOptions o;
+    o.convert.maxError = 0.3;
+    o.convert.maxPatches = 1500;
+    long capped = 0, uncapped = 0;
+    for (double ppp : {0.0, 8.0}) {
+        o.pixelsPerPatch = ppp;
+        SegmentConvertReport rep;
+        convertSegmented(image, o, "striped scene", &rep);
+        REQUIRE(rep.failedRegions == 0);
+        int over = 0;
+        for (const RegionReport& r : rep.convert.regions) {
+            const long cap = std::max<long>(o.minRegionPatches, r.pixels / 8);
+            if (r.patches > cap) ++over;
+            if (ppp > 0) {
+                INFO("region of " << r.pixels << " px: " << r.patches << " patches");
+                CHECK(r.patches <= cap);
+            }
+        }
+        (ppp > 0 ? capped : uncapped) = rep.convert.patches;
+        if (ppp == 0) CHECK(over >= 1);  // the stripes would take more without the cap
+        CHECK(rep.convert.error.uncovered == 0);
+    }
+    WARN("striped scene: " << uncapped << " patches without the per-pixel cap, " << capped
+                           << " with one patch per 8 pixels");
+    CHECK(capped < uncapped);
+}
+
 TEST_CASE("an image too small to segment into anything still converts", "[convert][segment]") {
     RgbaImage image(24, 20);
     for (int y = 0; y < 20; ++y)
