@@ -95,6 +95,13 @@ EdgeDeviation edgeDeviation(const GridBuilder& grid, const GradientMesh& m, cons
 
 }  // namespace
 
+double outlineDeviation(const GridBuilder& grid, const GradientMesh& mesh) {
+    double worst = 0;
+    for (const BoundaryEdge& e : boundaryEdges(mesh))
+        worst = std::max(worst, edgeDeviation(grid, mesh, e).distance);
+    return worst;
+}
+
 BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
                               const BoundaryFitOptions& fit) {
     BoundaryFitResult result;

@@ -83,6 +83,19 @@ struct RegionGeometry {
     StageSeconds seconds;
 };
 
+// The boundary-fitted grid's sides refitted one-sided (GridOptions::outlineCover), so that its
+// curves go round the tips of a jagged outline instead of cutting them (the pixels there were
+// left uncovered), while no side strays farther from the outline than the plain fit's worst
+// edge already does (or than the outline tolerance): the knots stay those of the plain fit, and
+// the outline deviation reported is measured on the refitted grid.
+void coverOutline(const GridBuilder& grid, GridOptions& go, BoundaryFitResult& fitted, double cover,
+                  double tolerance) {
+    if (cover < 0) return;
+    go.outlineCover = cover;
+    go.outlineSlack = std::max(tolerance, fitted.maxDeviation);
+    fitted.maxDeviation = outlineDeviation(grid, grid.build(go));
+}
+
 std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Region& region,
                                               const ConvertOptions& options,
                                               const RegionCorners& corners) {
@@ -123,6 +136,7 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
     g->go = base;
     g->fitted = fitBoundary(*g->grid, g->go, bf);
+    coverOutline(*g->grid, g->go, g->fitted, options.outlineCover, options.outlineTolerance);
     g->foldedPatches = countFoldedPatches(g->grid->build(g->go));
     if (g->foldedPatches > 0) {
         // Stretch minimisation can bend the iso-curves more than cubic patches between the
@@ -130,7 +144,8 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
         // iso-curves are smoother; it is kept when its grid folds less.
         auto grid = std::make_unique<GridBuilder>(g->tri, g->topo.map);
         GridOptions go = base;
-        const BoundaryFitResult fitted = fitBoundary(*grid, go, bf);
+        BoundaryFitResult fitted = fitBoundary(*grid, go, bf);
+        coverOutline(*grid, go, fitted, options.outlineCover, options.outlineTolerance);
         const int folded = countFoldedPatches(grid->build(go));
         if (folded < g->foldedPatches) {
             g->grid = std::move(grid);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <queue>
 #include <string>
@@ -380,6 +381,313 @@ private:
     std::vector<double> limit_;  // per slot: the largest length its edges allow
 };
 
+// Largest distance from a point of `from` to the polyline `to`.
+double polylineDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+    double worst = 0;
+    for (const Vec2& p : from) {
+        double best = INFINITY;
+        for (size_t r = 0; r + 1 < to.size() && best > worst; ++r) {
+            const Vec2 ab = to[r + 1] - to[r];
+            const double len2 = dot(ab, ab);
+            const double f = len2 > 0 ? std::clamp(dot(p - to[r], ab) / len2, 0.0, 1.0) : 0.0;
+            best = std::min(best, norm(to[r] + f * ab - p));
+        }
+        worst = std::max(worst, best);
+    }
+    return worst;
+}
+
+// One side of the parameter rectangle as a chain of N boundary edges, fitted one-sided (see
+// GridOptions::outlineCover). Unknowns per node k: its derivative D_k (pixels per unit) and an
+// offset s_k along the outline's outward normal ν_k (held at 0 at the chain's ends, the
+// rectangle's corners). Edge k is h0·(P_k + s_k·ν_k) + h1·(P_k+1 + s_k+1·ν_k+1) +
+// Δ_k·(h2·D_k + h3·D_k+1).
+//
+// Round 0 is DerivativeFit's least-squares fit (same samples, same pull toward the chord,
+// offsets 0). Later rounds add stiff penalties, linearised at the current curve: every dense
+// outline point more than `cover` outside the curve is pulled to within cover/2 of it, and the
+// curve is kept within each edge's bound of the outline (the plain fit's two-sided deviation on
+// that edge, at least `slack`), both ways. Penalties are soft, so a last pass blends each node
+// back toward the plain fit until no edge strays farther than its bound: covering the outline's
+// tips never makes an edge's outline deviation worse than the plain fit's (or than slack).
+// (GridBuilder::build blends further back where a patch along the side would fold.)
+struct CoverChain {
+    std::vector<Vec2> pos;         // node positions
+    std::vector<Vec2> derivative;  // node derivatives
+    std::vector<Vec2> plainPos, plainDerivative;  // the plain fit's
+    // Per edge: knot interval, the outline densely sampled, curve samples of the deviation
+    // measure, and the deviation bound.
+    std::vector<double> delta;
+    std::vector<std::vector<Vec2>> outline;
+    std::vector<int> steps;
+    std::vector<double> bound;
+
+    // Two-sided deviation of edge k with end nodes (a, da), (b, db), as boundary.cpp measures it.
+    double deviation(int k, Vec2 a, Vec2 da, Vec2 b, Vec2 db) const {
+        std::vector<Vec2> c;
+        for (int r = 0; r <= steps[k]; ++r) {
+            double h[4];
+            hermiteBasis(double(r) / steps[k], h);
+            c.push_back(h[0] * a + h[1] * b + (delta[k] * h[2]) * da + (delta[k] * h[3]) * db);
+        }
+        return std::max(polylineDistance(c, outline[k]), polylineDistance(outline[k], c));
+    }
+};
+
+CoverChain fitCoverChain(const std::vector<Vec2>& P, const std::vector<double>& delta,
+                         const std::function<Vec2(int, double)>& outline,
+                         const std::vector<Vec2>& inside, const std::vector<double>& tau,
+                         double cover, double slack, double tangentLimit) {
+    const int N = static_cast<int>(delta.size());
+    const int n = 3 * (N + 1);
+    auto perp = [](Vec2 t) { return Vec2{t.y, -t.x}; };
+    // Which perpendicular points out of the region: the majority over the edges.
+    double vote = 0;
+    for (int k = 0; k < N; ++k)
+        vote += dot(perp(P[k + 1] - P[k]), inside[k] - 0.5 * (P[k] + P[k + 1])) > 0 ? 1 : -1;
+    const double sgn = vote > 0 ? -1.0 : 1.0;
+    auto outward = [&](Vec2 t) {
+        const double len = norm(t);
+        return len > 1e-12 ? (sgn / len) * perp(t) : Vec2{};
+    };
+    std::vector<Vec2> nu(static_cast<size_t>(N + 1));
+    for (int k = 1; k < N; ++k) nu[k] = outward(P[k + 1] - P[k - 1]);
+
+    // Per edge: least-squares samples, dense outline points (the penalties' and the deviation
+    // measure's; as boundary.cpp measures it: the curve at `curveSteps` points, the outline at
+    // four times as many).
+    std::vector<std::vector<Vec2>> q(static_cast<size_t>(N)), line(static_cast<size_t>(N));
+    std::vector<int> curveSteps(static_cast<size_t>(N));
+    for (int k = 0; k < N; ++k) {
+        for (double t : tau) q[k].push_back(outline(k, t));
+        const double chord = norm(P[k + 1] - P[k]);
+        curveSteps[k] = std::clamp(static_cast<int>(std::ceil(chord / 1.5)), 8, 64);
+        const int M = 4 * curveSteps[k];
+        for (int m = 0; m <= M; ++m) line[k].push_back(m == 0 ? P[k] : m == M ? P[k + 1] : outline(k, double(m) / M));
+    }
+
+    std::vector<double> x(static_cast<size_t>(n), 0.0);
+    auto nodePos = [&](const std::vector<double>& v, int k) { return P[k] + v[3 * k + 2] * nu[k]; };
+    auto nodeDer = [&](const std::vector<double>& v, int k) { return Vec2{v[3 * k], v[3 * k + 1]}; };
+    auto curve = [&](const std::vector<double>& v, int k, double t, Vec2* d1) {
+        double h[4], dh[4];
+        hermiteBasis(t, h);
+        const Vec2 a = nodePos(v, k), b = nodePos(v, k + 1), da = nodeDer(v, k), db = nodeDer(v, k + 1);
+        if (d1) {
+            hermiteBasisDerivative(t, dh);
+            *d1 = dh[0] * a + dh[1] * b + (delta[k] * dh[2]) * da + (delta[k] * dh[3]) * db;
+        }
+        return h[0] * a + h[1] * b + (delta[k] * h[2]) * da + (delta[k] * h[3]) * db;
+    };
+    // The tangent limit of DerivativeFit, applied to the derivatives of v.
+    auto limited = [&](std::vector<double> v) {
+        if (tangentLimit <= 0) return v;
+        for (int k = 0; k <= N; ++k) {
+            double cap = INFINITY;
+            if (k > 0) cap = std::min(cap, tangentLimit * norm(nodePos(v, k) - nodePos(v, k - 1)) / delta[k - 1]);
+            if (k < N) cap = std::min(cap, tangentLimit * norm(nodePos(v, k + 1) - nodePos(v, k)) / delta[k]);
+            const double len = norm(nodeDer(v, k));
+            if (len > cap) v[3 * k] *= cap / len, v[3 * k + 1] *= cap / len;
+        }
+        return v;
+    };
+    auto deviation = [&](const std::vector<double>& v, int k) {
+        std::vector<Vec2> c;
+        for (int r = 0; r <= curveSteps[k]; ++r) c.push_back(curve(v, k, double(r) / curveSteps[k], nullptr));
+        return std::max(polylineDistance(c, line[k]), polylineDistance(line[k], c));
+    };
+
+    std::vector<double> plain, bound;
+    std::vector<std::vector<uint8_t>> coverOn(static_cast<size_t>(N)), valleyOn(static_cast<size_t>(N)),
+        bulgeOn(static_cast<size_t>(N));
+    std::vector<uint8_t> longOn(static_cast<size_t>(N + 1), 0);
+    for (int k = 0; k < N; ++k) {
+        coverOn[k].assign(line[k].size(), 0);
+        valleyOn[k].assign(line[k].size(), 0);
+        bulgeOn[k].assign(static_cast<size_t>(curveSteps[k]) + 1, 0);
+    }
+    // Penalty weights (a least-squares sample weighs 1), the target of a covered point (half
+    // the cover inside the curve) and of a bounded one (a little within its bound), and how far
+    // past its target a penalised point must get before its penalty is dropped.
+    const double penalty = 50.0, boundPenalty = 2000.0, target = 0.5 * cover, within = 0.85;
+    const double hysteresis = 0.25;
+    const double offsetWeight = 1.0;  // an offset of 1 px costs as much as one sample 1 px off
+
+    for (int round = 0; round < 12; ++round) {
+        std::vector<Eigen::Triplet<double>> trip;
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+        // Adds w·(a·c_k(t) − value)² (a linear function of edge k's six unknowns).
+        auto addRow = [&](int k, double t, Vec2 a, double w, double value) {
+            double h[4];
+            hermiteBasis(t, h);
+            const int idx[6] = {3 * k, 3 * k + 1, 3 * k + 2, 3 * k + 3, 3 * k + 4, 3 * k + 5};
+            const double g[6] = {a.x * h[2] * delta[k], a.y * h[2] * delta[k], h[0] * dot(a, nu[k]),
+                                 a.x * h[3] * delta[k], a.y * h[3] * delta[k], h[1] * dot(a, nu[k + 1])};
+            const double rest = value - h[0] * dot(a, P[k]) - h[1] * dot(a, P[k + 1]);
+            for (int r = 0; r < 6; ++r) {
+                if (g[r] == 0) continue;
+                rhs[idx[r]] += w * g[r] * rest;
+                for (int c = 0; c < 6; ++c)
+                    if (g[c] != 0) trip.emplace_back(idx[r], idx[c], w * g[r] * g[c]);
+            }
+        };
+        for (int k = 0; k < N; ++k) {
+            for (size_t s = 0; s < tau.size(); ++s) {
+                addRow(k, tau[s], {1, 0}, 1.0, q[k][s].x);
+                addRow(k, tau[s], {0, 1}, 1.0, q[k][s].y);
+            }
+            const double w = 1e-4 * delta[k] * delta[k];
+            const Vec2 chord = (1.0 / delta[k]) * (P[k + 1] - P[k]);
+            for (int e : {3 * k, 3 * k + 3}) {
+                trip.emplace_back(e, e, w);
+                trip.emplace_back(e + 1, e + 1, w);
+                rhs[e] += w * chord.x;
+                rhs[e + 1] += w * chord.y;
+            }
+        }
+        for (int k = 0; k <= N; ++k)
+            trip.emplace_back(3 * k + 2, 3 * k + 2, k == 0 || k == N || round == 0 ? 1e12 : offsetWeight);
+        if (round > 0) {
+            if (round == 1) {
+                plain = x;
+                const std::vector<double> plainLimited = limited(plain);
+                for (int k = 0; k < N; ++k) bound.push_back(std::max(slack, deviation(plainLimited, k)));
+            }
+            bool any = false;
+            for (int k = 0; k < N; ++k) {
+                // Outline points against the curve's nearest point (Gauss–Newton from the
+                // point's own parameter): too far outside it (cover) or inside it (valley).
+                const int M = static_cast<int>(line[k].size()) - 1;
+                for (int m = 0; m <= M; ++m) {
+                    const Vec2 o = line[k][m];
+                    double t = double(m) / M;
+                    Vec2 d1;
+                    for (int it = 0; it < 4; ++it) {
+                        const Vec2 c = curve(x, k, t, &d1);
+                        const double dd = dot(d1, d1);
+                        if (dd < 1e-18) break;
+                        t = std::clamp(t - dot(c - o, d1) / dd, 0.0, 1.0);
+                    }
+                    const Vec2 c = curve(x, k, t, &d1);
+                    const Vec2 nrm = outward(d1);
+                    if (nrm.x == 0 && nrm.y == 0) continue;
+                    const double out = dot(nrm, o - c), dist = norm(o - c);
+                    if (out > cover) coverOn[k][m] = 1;
+                    if (out < 0 && dist > bound[k]) valleyOn[k][m] = 1;
+                    if (coverOn[k][m] && out > target - hysteresis) {
+                        addRow(k, t, nrm, penalty, dot(nrm, o) - target);
+                        any = true;
+                    } else if (valleyOn[k][m] && out < 0 && dist > within * bound[k] - hysteresis) {
+                        const Vec2 dir = (1.0 / dist) * (c - o);
+                        addRow(k, t, dir, boundPenalty, dot(dir, o) + within * bound[k]);
+                        any = true;
+                    }
+                }
+                // Curve points too far outside the outline (bulge).
+                for (int r = 0; r <= curveSteps[k]; ++r) {
+                    const double t = double(r) / curveSteps[k];
+                    Vec2 d1;
+                    const Vec2 c = curve(x, k, t, &d1);
+                    const Vec2 nrm = outward(d1);
+                    // The nearest outline point, searched within a quarter of the edge of
+                    // the point at the same parameter.
+                    Vec2 nearest = line[k][0];
+                    double best = INFINITY;
+                    const int M = static_cast<int>(line[k].size()) - 1, at = 4 * r;
+                    const int from = std::max(0, at - M / 4), to = std::min(M, at + M / 4);
+                    for (int s = from; s < to; ++s) {
+                        const Vec2 ab = line[k][s + 1] - line[k][s];
+                        const double len2 = dot(ab, ab);
+                        const double f = len2 > 0 ? std::clamp(dot(c - line[k][s], ab) / len2, 0.0, 1.0) : 0.0;
+                        const Vec2 p = line[k][s] + f * ab;
+                        if (norm(p - c) < best) best = norm(p - c), nearest = p;
+                    }
+                    if (dot(nrm, c - nearest) <= 0 || best < 1e-9) continue;
+                    if (best > bound[k]) bulgeOn[k][r] = 1;
+                    if (!bulgeOn[k][r] || best < within * bound[k] - hysteresis) continue;
+                    const Vec2 dir = (1.0 / best) * (c - nearest);
+                    addRow(k, t, dir, boundPenalty, dot(dir, nearest) + within * bound[k]);
+                    any = true;
+                }
+            }
+            // The tangent limit, as a penalty on each too long derivative's length.
+            if (tangentLimit > 0)
+                for (int k = 0; k <= N; ++k) {
+                    double cap = INFINITY, scale = 0;
+                    if (k > 0) {
+                        cap = std::min(cap, tangentLimit * norm(nodePos(x, k) - nodePos(x, k - 1)) / delta[k - 1]);
+                        scale = std::max(scale, delta[k - 1]);
+                    }
+                    if (k < N) {
+                        cap = std::min(cap, tangentLimit * norm(nodePos(x, k + 1) - nodePos(x, k)) / delta[k]);
+                        scale = std::max(scale, delta[k]);
+                    }
+                    const Vec2 d = nodeDer(x, k);
+                    const double len = norm(d);
+                    if (len > cap) longOn[k] = 1;
+                    if (!longOn[k] || len < 0.98 * cap - hysteresis / scale || len < 1e-12) continue;
+                    const Vec2 u = (1.0 / len) * d;
+                    const double w = boundPenalty * scale * scale;
+                    trip.emplace_back(3 * k, 3 * k, w * u.x * u.x);
+                    trip.emplace_back(3 * k, 3 * k + 1, w * u.x * u.y);
+                    trip.emplace_back(3 * k + 1, 3 * k, w * u.x * u.y);
+                    trip.emplace_back(3 * k + 1, 3 * k + 1, w * u.y * u.y);
+                    rhs[3 * k] += w * u.x * 0.98 * cap;
+                    rhs[3 * k + 1] += w * u.y * 0.98 * cap;
+                    any = true;
+                }
+            if (!any) break;
+        }
+        Eigen::SparseMatrix<double> A(n, n);
+        A.setFromTriplets(trip.begin(), trip.end());
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+        if (ldlt.info() != Eigen::Success) {
+            if (!plain.empty()) x = plain;
+            break;
+        }
+        const Eigen::VectorXd sol = ldlt.solve(rhs);
+        for (int k = 0; k < n; ++k) x[k] = sol[k];
+    }
+    if (plain.empty()) plain = x;  // the plain fit failed: nothing to blend back to
+
+    // Blend nodes back toward the plain fit wherever an edge strays past its bound: halving
+    // a few times, then all the way (an edge between two plain nodes is within its bound).
+    std::vector<double> lambda(static_cast<size_t>(N + 1), 1.0), v;
+    for (int pass = 0;; ++pass) {
+        v = x;
+        for (int k = 0; k <= N; ++k)
+            for (int c = 0; c < 3; ++c)
+                v[3 * k + c] = plain[3 * k + c] + lambda[k] * (x[3 * k + c] - plain[3 * k + c]);
+        v = limited(v);
+        if (bound.empty()) break;
+        bool ok = true;
+        for (int k = 0; k < N; ++k)
+            if ((lambda[k] > 0 || lambda[k + 1] > 0) && deviation(v, k) > bound[k] + 1e-3) {
+                const double f = pass < 6 ? 0.5 : 0.0;
+                lambda[k] *= f;
+                lambda[k + 1] *= f;
+                ok = false;
+            }
+        if (ok) break;
+    }
+    CoverChain result;
+    const std::vector<double> plainLimited = limited(plain);
+    for (int k = 0; k <= N; ++k) {
+        result.pos.push_back(k == 0 || k == N ? P[k] : nodePos(v, k));
+        result.derivative.push_back(nodeDer(v, k));
+        result.plainPos.push_back(P[k]);
+        result.plainDerivative.push_back(nodeDer(plainLimited, k));
+    }
+    result.delta = delta;
+    result.outline = line;
+    result.steps = curveSteps;
+    result.bound = bound;
+    if (result.bound.empty())
+        for (int k = 0; k < N; ++k)
+            result.bound.push_back(std::max(slack, deviation(plainLimited, k)));
+    return result;
+}
+
 }  // namespace
 
 GradientMesh GridBuilder::build(const GridOptions& options) const {
@@ -429,6 +737,42 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
             s.below[static_cast<size_t>(i - s.i0 - 1)].pos =
                 m.position(mesh.u[i], mesh.v[s.row], 1);
 
+    const int nSamples = std::max(2, options.samplesPerEdge);
+    std::vector<double> tau(static_cast<size_t>(nSamples));
+    for (int k = 0; k < nSamples; ++k) tau[k] = (k + 1.0) / (nSamples + 1.0);
+
+    // The rectangle's sides fitted one-sided (their nodes may move outward): top, bottom
+    // (derivatives along u), left, right (along v).
+    std::vector<CoverChain> cover;
+    if (options.outlineCover >= 0) {
+        for (int side = 0; side < 4; ++side) {
+            const bool alongU = side < 2;
+            const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R : C);
+            const std::vector<double>& k = alongU ? mesh.u : mesh.v;
+            const std::vector<double>& other = alongU ? mesh.v : mesh.u;
+            const double fixed = other[fixedIndex];
+            const double inward = fixedIndex == 0 ? 0.5 * (other[1] - other[0])
+                                                  : -0.5 * (other[fixedIndex] - other[fixedIndex - 1]);
+            const int N = static_cast<int>(k.size()) - 1;
+            std::vector<Vec2> P, inside;
+            std::vector<double> delta;
+            for (int a = 0; a <= N; ++a)
+                P.push_back(alongU ? mesh.node(a, fixedIndex).pos : mesh.node(fixedIndex, a).pos);
+            for (int a = 0; a < N; ++a) {
+                delta.push_back(k[a + 1] - k[a]);
+                const double mid = 0.5 * (k[a] + k[a + 1]);
+                inside.push_back(alongU ? m.position(mid, fixed + inward, 0)
+                                        : m.position(fixed + inward, mid, 0));
+            }
+            auto outlineAt = [&](int a, double t) {
+                const double p = k[a] + t * (k[a + 1] - k[a]);
+                return alongU ? m.position(p, fixed, 0) : m.position(fixed, p, 0);
+            };
+            cover.push_back(fitCoverChain(P, delta, outlineAt, inside, tau, options.outlineCover,
+                                          options.outlineSlack, options.tangentLimit));
+        }
+    }
+
     // Slot numbering: nodes, then below copies; for u also the slit ends' (left, right).
     const int nNodes = (C + 1) * (R + 1);
     std::vector<int> belowBase;
@@ -453,9 +797,6 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
         return mesh.node(i, j).pos;
     };
 
-    const int nSamples = std::max(2, options.samplesPerEdge);
-    std::vector<double> tau(static_cast<size_t>(nSamples));
-    for (int k = 0; k < nSamples; ++k) tau[k] = (k + 1.0) / (nSamples + 1.0);
     std::vector<Vec2> q(static_cast<size_t>(nSamples));
 
     // u: the patch edges along each row. On a slit run there are two edges (above, below).
@@ -516,6 +857,81 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
         }
         sl.left.posU = dU[endBase + 2 * s];
         sl.right.posU = dU[endBase + 2 * s + 1];
+    }
+    if (!cover.empty()) {
+        // The one-sided sides, each node blended between the plain fit (0) and the one-sided
+        // one (1). A patch along a side that folds where the plain fit's does not (the side's
+        // derivatives turned too far from the grid lines crossing it) gets its side's nodes
+        // blended back toward the plain fit until it does not.
+        std::vector<std::vector<double>> mix(4);
+        for (int side = 0; side < 4; ++side) mix[side].assign(cover[side].pos.size(), 1.0);
+        auto apply = [&](double all) {
+            for (int side = 0; side < 4; ++side) {
+                const bool alongU = side < 2;
+                const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R : C);
+                const CoverChain& cc = cover[side];
+                for (size_t a = 0; a < cc.pos.size(); ++a) {
+                    const double f = all >= 0 ? all : mix[side][a];
+                    const int ia = static_cast<int>(a);
+                    Node& nd = alongU ? mesh.node(ia, fixedIndex) : mesh.node(fixedIndex, ia);
+                    nd.pos = cc.plainPos[a] + f * (cc.pos[a] - cc.plainPos[a]);
+                    (alongU ? nd.posU : nd.posV) =
+                        cc.plainDerivative[a] + f * (cc.derivative[a] - cc.plainDerivative[a]);
+                }
+            }
+        };
+        // Patches along the sides: (side, index along it, patch i, j).
+        struct SidePatch {
+            int side, a, i, j;
+        };
+        std::vector<SidePatch> along;
+        for (int i = 0; i < C; ++i) along.push_back({0, i, i, 0}), along.push_back({1, i, i, R - 1});
+        for (int j = 0; j < R; ++j) along.push_back({2, j, 0, j}), along.push_back({3, j, C - 1, j});
+        auto folds = [&](int i, int j) {
+            const PatchHermite h = patchHermite(mesh, i, j);
+            for (int n : {6, 8})
+                for (int a = 0; a < n; ++a)
+                    for (int b = 0; b < n; ++b) {
+                        const PatchPoint p = evaluatePatch(h, (a + 0.5) / n, (b + 0.5) / n);
+                        if (p.posS.x * p.posT.y - p.posS.y * p.posT.x <= 0) return true;
+                    }
+            return false;
+        };
+        apply(0.0);
+        std::vector<uint8_t> plainFolds(along.size());
+        for (size_t p = 0; p < along.size(); ++p) plainFolds[p] = folds(along[p].i, along[p].j);
+        bool settled = false;
+        for (int pass = 0; pass < 12 && !settled; ++pass) {
+            apply(-1);
+            settled = true;
+            for (size_t p = 0; p < along.size(); ++p) {
+                if (plainFolds[p] || !folds(along[p].i, along[p].j)) continue;
+                const double f = pass < 6 ? 0.5 : 0.0;
+                mix[along[p].side][along[p].a] *= f;
+                mix[along[p].side][along[p].a + 1] *= f;
+                settled = false;
+            }
+            // An edge between nodes blended unequally may stray past its bound: both back.
+            for (int side = 0; side < 4; ++side) {
+                const CoverChain& cc = cover[side];
+                auto node = [&](int a) -> const Node& {
+                    return side < 2 ? mesh.node(a, side == 0 ? 0 : R) : mesh.node(side == 2 ? 0 : C, a);
+                };
+                for (size_t k = 0; k < cc.delta.size(); ++k) {
+                    const int a = static_cast<int>(k);
+                    if (mix[side][k] == mix[side][k + 1] &&
+                        (mix[side][k] == 0 || mix[side][k] == 1))
+                        continue;  // the plain or the one-sided edge: within its bound
+                    const Node &na = node(a), &nb = node(a + 1);
+                    const Vec2 da = side < 2 ? na.posU : na.posV, db = side < 2 ? nb.posU : nb.posV;
+                    if (cc.deviation(a, na.pos, da, nb.pos, db) > cc.bound[k] + 1e-3) {
+                        mix[side][k] = mix[side][k + 1] = 0;
+                        settled = false;
+                    }
+                }
+            }
+        }
+        if (!settled) apply(0.0);
     }
     return mesh;
 }

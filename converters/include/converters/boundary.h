@@ -36,4 +36,8 @@ struct BoundaryFitResult {
 BoundaryFitResult fitBoundary(const GridBuilder& grid, GridOptions& options,
                               const BoundaryFitOptions& fit = {});
 
+// The largest Hausdorff distance between a boundary edge of `mesh` (built by `grid`) and the
+// outline under it, pixels: BoundaryFitResult::maxDeviation of that mesh.
+double outlineDeviation(const GridBuilder& grid, const GradientMesh& mesh);
+
 }  // namespace gm

@@ -26,6 +26,9 @@ struct ConvertOptions {
     double outerLevel = 0.35;     // RegionOptions::outerLevel
     double outlineTolerance = 0.5;   // pixels: boundary curves against the traced outline
     double holeTolerance = 0.2;      // pixels: the same for hole outlines
+    double outlineCover = 0.1;       // pixels: GridOptions::outlineCover (negative: off), with
+                                     // the boundary fit's knots, each side within the fit's
+                                     // worst deviation (or outlineTolerance) of the outline
     int threads = 0;              // renderer threads inside one region's fit (0: all cores)
     double retryDeviation = 2.0;  // pixels: a boundary fit farther than this from the outline
                                   // is tried again with the corners at the sharpest tips, then

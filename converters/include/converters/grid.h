@@ -43,6 +43,18 @@ struct GridOptions {
     // (0: no limit). A cubic whose end tangents stay within ~1.5 chords does not loop, and
     // patches between such edges do not fold where knot intervals are uneven.
     double tangentLimit = 1.5;
+    // When ≥ 0, the curves along the rectangle's four sides are fitted one-sided: the outline
+    // (as the inverse map carries it) should lie outside them by at most this many pixels, and
+    // their nodes (not the corners) may move outward off the outline, along its normal, for
+    // it. A least-squares curve through a jagged outline cuts the tips of its steps and leaves
+    // their pixels uncovered; the one-sided one goes round them. Two limits keep it honest:
+    // no side edge strays farther from the outline (Hausdorff, both ways, as fitBoundary
+    // measures it) than the plain least-squares edge does or than outlineSlack, and no patch
+    // along a side folds where the plain fit's does not; where either would fail, the nodes
+    // are blended back toward the plain fit. Negative: plain least squares, nodes on the
+    // outline. Slits (holes) are not affected.
+    double outlineCover = -1;
+    double outlineSlack = 0.5;  // pixels
 };
 
 // The knot vectors buildGrid uses for these options: required knots (0, the extent, extras,
@@ -79,7 +91,8 @@ private:
 };
 
 // Stage entry point: GridBuilder(mesh, map).build(options). The result passes validateMesh;
-// node positions on the rectangle's sides lie on the region's outer loop, and each grid line's
+// node positions on the rectangle's sides lie on the region's outer loop (unless
+// options.outlineCover moves them outward), and each grid line's
 // position derivatives come from a least-squares fit of the patches' edge cubics to the map's
 // iso-curve sampled through the inverse map.
 GradientMesh buildGrid(const TriMesh& mesh, const ParamMap& map, const GridOptions& options);
