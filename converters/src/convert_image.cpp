@@ -280,6 +280,74 @@ void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
     }
 }
 
+// The last resort for a piece that no map handles, not even in parts (a network of thin
+// leaves, a thin ring with branches): cut across the longer side of its bounding box, each
+// 8-connected component of each half its own mesh reaching a pixel under the rest of the
+// piece; a component that fails too is cut again, up to kMaxTileDepth times. Components under
+// 16 px are left to their neighbours' overlap; what still fails is reported as left uncovered.
+// Meshes and reports are appended, `part` saying "tile".
+constexpr int kMaxTileDepth = 6;
+void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOptions& options,
+                    std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
+                    const std::string& reason, int depth = 0) {
+    const int w = piece.width, h = piece.height;
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (piece.mask[static_cast<size_t>(y) * w + x]) {
+                x0 = std::min(x0, x), x1 = std::max(x1, x);
+                y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+    auto leftUncovered = [&](int pixels, const std::string& why) {
+        RegionReport pr;
+        pr.pixels = pixels;
+        pr.part = "tile left uncovered: " + why;
+        reports.push_back(pr);
+    };
+    if (x1 < 0) return;
+    if (depth >= kMaxTileDepth || (x1 == x0 && y1 == y0)) {
+        leftUncovered(piece.pixelCount, reason);
+        return;
+    }
+    const bool cutX = x1 - x0 >= y1 - y0;
+    const int cut = cutX ? (x0 + x1 + 1) / 2 : (y0 + y1 + 1) / 2;  // first column/row of half 2
+    RegionOptions ro;
+    ro.minArea = 16;
+    ro.minHole = options.minHole;
+    ro.outerLevel = options.outerLevel;
+    for (int half = 0; half < 2; ++half) {
+        std::vector<uint8_t> bits(piece.mask.size(), 0);
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const size_t k = static_cast<size_t>(y) * w + x;
+                const bool second = (cutX ? x : y) >= cut;
+                bits[k] = piece.mask[k] && second == (half == 1);
+            }
+        std::vector<Region> comps;
+        try {
+            comps = extractRegions(coverageFromBits(w, h, bits), ro);
+        } catch (const Error&) {
+            continue;  // nothing in this half, or only specks under 16 px
+        }
+        for (const Region& comp : comps) {
+            std::vector<uint8_t> rest(piece.mask.size());
+            for (size_t k = 0; k < rest.size(); ++k) rest[k] = piece.mask[k] && !comp.mask[k];
+            RegionReport rr;
+            try {
+                meshes.push_back(convertRegion(
+                    image, growRegionInto(comp, 1, options.minHole, rest, options.outerLevel),
+                    options, rr));
+                rr.part = "tile";
+                reports.push_back(rr);
+            } catch (const MapError& e) {
+                convertInTiles(image, comp, options, meshes, reports, e.reason(), depth + 1);
+            } catch (const Error& e) {
+                leftUncovered(comp.pixelCount, e.reason());
+            }
+        }
+    }
+}
+
 // The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
 // thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
 // parts): its core without the parts thinner than 2·radius+1 px, and each
@@ -339,9 +407,12 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
                     reports.insert(reports.end(), sub.begin(), sub.end());
                     continue;
                 } catch (const Error& e2) {
-                    pr = RegionReport{};
-                    pr.pixels = piece.pixelCount;
-                    pr.part = "thin part left uncovered: " + e2.reason();
+                    // Not even in parts: in tiles.
+                    std::vector<RegionReport> tiles;
+                    convertInTiles(image, piece, options, meshes, tiles, e2.reason());
+                    for (RegionReport& r : tiles) r.part = "thin part, " + r.part;
+                    reports.insert(reports.end(), tiles.begin(), tiles.end());
+                    continue;
                 }
             } catch (const Error& e) {
                 pr = RegionReport{};
