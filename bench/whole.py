@@ -222,6 +222,9 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
                 notes.append("%d region(s) failed (left to the base mesh)" % seg["failed"])
             if seg.get("holes_filled"):
                 notes.append("%d converted with holes filled" % seg["holes_filled"])
+            if seg.get("thin_parts_apart"):
+                notes.append("%d converted as a core plus its thin parts apart" %
+                             seg["thin_parts_apart"])
             if seg.get("base_patches"):
                 notes.append("base mesh %d patches" % seg["base_patches"])
             if seg.get("region_uncovered"):

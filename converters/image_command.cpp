@@ -312,7 +312,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"grown\": " << st.grown << ", \"merged\": " << st.merged
           << ", \"failed\": " << segReport.failedRegions
           << ", \"holes_filled\": " << segReport.filledRegions
-          << ", \"thin_parts_left_out\": " << segReport.trimmedRegions
+          << ", \"thin_parts_apart\": " << segReport.trimmedRegions
           << ", \"base_patches\": " << segReport.basePatches
           << ", \"region_uncovered\": " << num(segReport.regionUncovered)
           << ",\n    \"seconds\": {\"segmentation\": " << num(segReport.segmentSeconds)

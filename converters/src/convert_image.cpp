@@ -280,16 +280,19 @@ void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
     }
 }
 
+}  // namespace
+
 // The last resort for a piece that no map handles, not even in parts (a network of thin
 // leaves, a thin ring with branches): cut across the longer side of its bounding box, each
 // 8-connected component of each half its own mesh reaching a pixel under the rest of the
 // piece; a component that fails too is cut again, up to kMaxTileDepth times. Components under
 // 16 px are left to their neighbours' overlap; what still fails is reported as left uncovered.
 // Meshes and reports are appended, `part` saying "tile".
+namespace {
 constexpr int kMaxTileDepth = 6;
 void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOptions& options,
-                    std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
-                    const std::string& reason, int depth = 0) {
+                    const PartsBeneath& beneath, std::vector<GradientMesh>& meshes,
+                    std::vector<RegionReport>& reports, const std::string& reason, int depth = 0) {
     const int w = piece.width, h = piece.height;
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
     for (int y = 0; y < h; ++y)
@@ -331,16 +334,19 @@ void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOp
         }
         for (const Region& comp : comps) {
             std::vector<uint8_t> rest(piece.mask.size());
-            for (size_t k = 0; k < rest.size(); ++k) rest[k] = piece.mask[k] && !comp.mask[k];
+            for (size_t k = 0; k < rest.size(); ++k)
+                rest[k] = (piece.mask[k] && !comp.mask[k]) || beneath.at(k);
             RegionReport rr;
             try {
-                meshes.push_back(convertRegion(
-                    image, growRegionInto(comp, 1, options.minHole, rest, options.outerLevel),
-                    options, rr));
+                meshes.push_back(convertRegion(image,
+                                               growRegionInto(comp, beneath.reach(), beneath.minHole,
+                                                              rest, options.outerLevel),
+                                               options, rr));
                 rr.part = "tile";
                 reports.push_back(rr);
             } catch (const MapError& e) {
-                convertInTiles(image, comp, options, meshes, reports, e.reason(), depth + 1);
+                convertInTiles(image, comp, options, beneath, meshes, reports, e.reason(),
+                               depth + 1);
             } catch (const Error& e) {
                 leftUncovered(comp.pixelCount, e.reason());
             }
@@ -348,14 +354,62 @@ void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOp
     }
 }
 
-// The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
-// thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
-// parts): its core without the parts thinner than 2·radius+1 px, and each
-// thin part on its own, the core reaching a pixel under them. Returns the meshes, core first;
-// throws what convertRegion throws when no radius works for the core.
+}  // namespace
+
+void convertThinParts(const RgbaImage& image, const std::vector<uint8_t>& rest,
+                      const ConvertOptions& options, const PartsBeneath& beneath,
+                      std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
+                      int depth) {
+    RegionOptions ro;
+    ro.minArea = 16;
+    ro.minHole = options.minHole;
+    ro.outerLevel = options.outerLevel;
+    std::vector<Region> pieces;
+    try {
+        pieces = extractRegions(coverageFromBits(image.width, image.height, rest), ro);
+    } catch (const Error&) {
+        return;  // nothing left, or every piece under 16 px
+    }
+    for (const Region& piece : pieces) {
+        RegionReport pr;
+        try {
+            meshes.push_back(convertRegion(
+                image,
+                beneath.under.empty() ? piece
+                                      : growRegionInto(piece, beneath.reach(), beneath.minHole,
+                                                       beneath.under, options.outerLevel),
+                options, pr));
+            pr.part = "thin part";
+        } catch (const MapError&) {
+            std::vector<RegionReport> sub;
+            try {
+                if (depth > 0) throw;
+                for (GradientMesh& m :
+                     convertInParts(image, piece, options, beneath, sub, depth + 1))
+                    meshes.push_back(std::move(m));
+                for (RegionReport& r : sub) r.part = "thin part, " + r.part;
+                reports.insert(reports.end(), sub.begin(), sub.end());
+                continue;
+            } catch (const Error& e2) {
+                // Not even in parts: in tiles.
+                std::vector<RegionReport> tiles;
+                convertInTiles(image, piece, options, beneath, meshes, tiles, e2.reason());
+                for (RegionReport& r : tiles) r.part = "thin part, " + r.part;
+                reports.insert(reports.end(), tiles.begin(), tiles.end());
+                continue;
+            }
+        } catch (const Error& e) {
+            pr = RegionReport{};
+            pr.pixels = piece.pixelCount;
+            pr.part = "thin part left uncovered: " + e.reason();
+        }
+        reports.push_back(pr);
+    }
+}
+
 std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& region,
-                                         const ConvertOptions& options,
-                                         std::vector<RegionReport>& reports, int depth = 0) {
+                                         const ConvertOptions& options, const PartsBeneath& beneath,
+                                         std::vector<RegionReport>& reports, int depth) {
     const int w = region.width, h = region.height;
     std::string last;
     for (const int radius : {2, 4, 7}) {
@@ -370,62 +424,29 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
         // The core must be most of the region: tiny holes everywhere (or a region that is all
         // thin parts) would leave shreds, worse than the refusal.
         if (cores.empty() || cores.front().pixelCount < region.pixelCount / 2) break;
-        std::vector<uint8_t> rest(region.mask.size());
-        for (size_t k = 0; k < rest.size(); ++k) rest[k] = region.mask[k] && !cores.front().mask[k];
+        std::vector<uint8_t> rest(region.mask.size()), coreUnder(region.mask.size());
+        for (size_t k = 0; k < rest.size(); ++k) {
+            rest[k] = region.mask[k] && !cores.front().mask[k];
+            coreUnder[k] = rest[k] || beneath.at(k);
+        }
         RegionReport rr;
         try {
-            meshes.push_back(convertRegion(
-                image, growRegionInto(cores.front(), 1, options.minHole, rest, options.outerLevel),
-                options, rr));
+            meshes.push_back(convertRegion(image,
+                                           growRegionInto(cores.front(), beneath.reach(),
+                                                          beneath.minHole, coreUnder, options.outerLevel),
+                                           options, rr));
         } catch (const MapError& e) {
             last = e.reason();
             continue;
         }
         rr.part = "core";
         reports.push_back(rr);
-        // The thin parts (and whatever else the opening removed), each its own mesh on top;
-        // parts under 16 px are left to the core's overlap.
-        ro.minArea = 16;
-        std::vector<Region> pieces;
-        try {
-            pieces = extractRegions(coverageFromBits(w, h, rest), ro);
-        } catch (const Error&) {
-            // nothing left, or every piece under 16 px
-        }
-        for (const Region& piece : pieces) {
-            RegionReport pr;
-            try {
-                meshes.push_back(convertRegion(image, piece, options, pr));
-                pr.part = "thin part";
-            } catch (const MapError& e) {
-                std::vector<RegionReport> sub;
-                try {
-                    if (depth > 0) throw;
-                    for (GradientMesh& m : convertInParts(image, piece, options, sub, depth + 1))
-                        meshes.push_back(std::move(m));
-                    for (RegionReport& r : sub) r.part = "thin part, " + r.part;
-                    reports.insert(reports.end(), sub.begin(), sub.end());
-                    continue;
-                } catch (const Error& e2) {
-                    // Not even in parts: in tiles.
-                    std::vector<RegionReport> tiles;
-                    convertInTiles(image, piece, options, meshes, tiles, e2.reason());
-                    for (RegionReport& r : tiles) r.part = "thin part, " + r.part;
-                    reports.insert(reports.end(), tiles.begin(), tiles.end());
-                    continue;
-                }
-            } catch (const Error& e) {
-                pr = RegionReport{};
-                pr.pixels = piece.pixelCount;
-                pr.part = "thin part left uncovered: " + e.reason();
-            }
-            reports.push_back(pr);
-        }
+        // The thin parts (and whatever else the opening removed), each its own mesh on top.
+        convertThinParts(image, rest, options, beneath, meshes, reports, depth);
         return meshes;
     }
     throw MapError(last.empty() ? "no core left without the region's thin parts" : last);
 }
-}  // namespace
 
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report) {
@@ -451,6 +472,8 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
+    PartsBeneath alone;  // object mode: parts reach under each other only
+    alone.minHole = options.minHole;
     for (const Region& region : regions) {
         std::vector<RegionReport> rrs(1);
         try {
@@ -459,7 +482,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
                 meshes.push_back(convertRegion(image, region, options, rrs[0]));
             } catch (const MapError& whole) {
                 try {
-                    meshes = convertInParts(image, region, options, rrs);
+                    meshes = convertInParts(image, region, options, alone, rrs);
                 } catch (const MapError&) {
                     throw whole;  // its message says what to change (--min-hole, ...)
                 }
@@ -471,7 +494,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
                 std::vector<RegionReport> partReports;
                 try {
                     std::vector<GradientMesh> parts =
-                        convertInParts(image, region, options, partReports);
+                        convertInParts(image, region, options, alone, partReports);
                     // Only when every hole stays a hole of a mesh (an opening can cut the
                     // wall between a hole and the outline: the hole would become a notch).
                     int holes = 0;

@@ -15,6 +15,38 @@
 namespace gm {
 
 namespace {
+// One report for a region converted in parts: patches and seconds summed, the error combined
+// over the parts' own pixels (weighted by covered pixels), the core's geometry figures.
+RegionReport mergePartReports(const std::vector<RegionReport>& parts, const Region& own) {
+    RegionReport r = parts.front();
+    r.pixels = own.pixelCount;
+    r.holes = static_cast<int>(own.holes.size());
+    r.part = "core + " + std::to_string(parts.size() - 1) + " parts";
+    r.patches = 0;
+    r.seconds = StageSeconds{};
+    r.foldedPatches = 0;
+    double sum = 0, sq = 0, covered = 0, uncovered = 0, maxAbs = 0;
+    for (const RegionReport& p : parts) {
+        r.patches += p.patches;
+        r.seconds += p.seconds;
+        r.foldedPatches += p.foldedPatches;
+        const double c = p.error.pixels * (1 - p.error.uncovered);
+        sum += p.error.meanAbs * c;
+        sq += p.error.rmse * p.error.rmse * c;
+        covered += c;
+        uncovered += p.error.pixels * p.error.uncovered;
+        if (p.part.find("left uncovered") != std::string::npos) uncovered += p.pixels;
+        maxAbs = std::max(maxAbs, p.error.maxAbs);
+    }
+    r.error.pixels = own.pixelCount;
+    r.error.meanAbs = covered > 0 ? sum / covered : 0;
+    r.error.rmse = covered > 0 ? std::sqrt(sq / covered) : 0;
+    r.error.psnr = r.error.rmse > 0 ? 20 * std::log10(255.0 / r.error.rmse) : INFINITY;
+    r.error.maxAbs = maxAbs;
+    r.error.uncovered = own.pixelCount > 0 ? std::min(1.0, uncovered / own.pixelCount) : 0;
+    return r;
+}
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -82,7 +114,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     ConvertOptions coAll = options.convert;
     if (workers > 1) coAll.threads = 1;
     const size_t n = regions.size();
-    std::vector<GradientMesh> meshes(n);
+    std::vector<std::vector<GradientMesh>> meshes(n);  // a region in parts has several
     std::vector<RegionReport> reports(n);
     std::vector<std::string> fallbacks(n);
     std::vector<char> ok(n, 0);
@@ -109,8 +141,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                     std::min(options.minRegionPatches, co.maxPatches), co.maxPatches);
             const std::vector<uint8_t> under = later(k);
             try {
-                meshes[k] = convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
-                                          reports[k]);
+                meshes[k] = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
+                                           reports[k])};
                 ok[k] = 1;
                 continue;
             } catch (const Error& e) {
@@ -122,9 +154,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                 // Its holes are other regions, drawn on top: the region without them still
                 // paints its own pixels.
                 try {
-                    meshes[k] = convertRegion(
+                    meshes[k] = {convertRegion(
                         image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
-                        co, reports[k]);
+                        co, reports[k])};
                     ok[k] = 2;
                     fallbacks[k] = "holes filled (" + fallbacks[k] + ")";
                     continue;
@@ -132,8 +164,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                     fallbacks[k] += "; with holes filled: " + std::string(e.what());
                 }
             }
-            // Without its thin parts (their pixels stay with the neighbours' overlap and the
-            // base mesh).
+            // Its core without its thin parts, then each thin part its own mesh on top (in
+            // parts or tiles where no map works: convertThinParts), reaching under the later
+            // regions and a pixel over the core.
             for (const int radius : {2, 5}) try {
                 const std::vector<uint8_t> core = openMask(own.mask, own.width, own.height, radius);
                 RegionOptions ro;
@@ -143,12 +176,23 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                     extractRegions(coverageFromBits(own.width, own.height, core), ro);
                 if (rs.empty()) throw Error("nothing is left without its thin parts");
                 Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
-                meshes[k] = convertRegion(image, trimmed, co, reports[k]);
+                meshes[k] = {convertRegion(image, trimmed, co, reports[k])};
                 ok[k] = 3;
-                fallbacks[k] = "parts thinner than " + std::to_string(2 * radius + 1) +
-                               " px left out (" +
+                std::vector<uint8_t> rest(own.mask.size());
+                PartsBeneath beneath;
+                beneath.under = under;
+                beneath.overlap = options.overlap;
+                for (size_t p = 0; p < rest.size(); ++p) {
+                    rest[p] = own.mask[p] && !rs.front().mask[p];
+                    beneath.under[p] = beneath.under[p] || rs.front().mask[p];
+                }
+                std::vector<RegionReport> parts{reports[k]};
+                convertThinParts(image, rest, co, beneath, meshes[k], parts);
+                reports[k] = mergePartReports(parts, own);
+                fallbacks[k] = "parts thinner than " + std::to_string(2 * radius + 1) + " px (" +
                                std::to_string(own.pixelCount - rs.front().pixelCount) +
-                               " px): " + fallbacks[k];
+                               " px) as " + std::to_string(meshes[k].size() - 1) +
+                               " meshes of their own: " + fallbacks[k];
                 break;
             } catch (const std::exception& e) {
                 fallbacks[k] += "; without parts thinner than " + std::to_string(2 * radius + 1) +
@@ -180,7 +224,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     for (size_t k = 0; k < n; ++k) {
         RegionReport& rr = reports[k];
         if (ok[k]) {
-            doc.meshes.push_back(std::move(meshes[k]));
+            for (GradientMesh& m : meshes[k]) doc.meshes.push_back(std::move(m));
             if (ok[k] == 2) ++rep.filledRegions;
             if (ok[k] == 3) ++rep.trimmedRegions;
         } else {

@@ -143,3 +143,58 @@ TEST_CASE("converting the same image twice gives the same meshes", "[convert][se
         CHECK(a.meshes[k] == b.meshes[k]);
     }
 }
+
+TEST_CASE("a region with parts too thin for its map gets them as meshes of their own",
+          "[convert][segment]") {
+    // The scene's pink box with a comb of 2 px strokes above it in the same pink (a rail and
+    // nine teeth on a stem): no one map of box and comb works, so the box is converted without
+    // the comb and the comb's pieces on their own (in parts or tiles). Before, the comb was
+    // left to the base mesh. (A ladder with loops does not do: the segmentation merges the
+    // loops' insides into the box's region.)
+    RgbaImage image = scene();
+    std::vector<uint8_t> comb(static_cast<size_t>(image.width) * image.height, 0);
+    auto stroke = [&](int x0, int y0, int x1, int y1) {
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                float* p = image.at(x, y);
+                p[0] = 0.9f, p[1] = 0.45f + 0.2f * float(y) / image.height, p[2] = 0.6f;
+                comb[static_cast<size_t>(y) * image.width + x] = 1;
+            }
+    };
+    stroke(194, 30, 196, 41);                                  // stem up from the box
+    stroke(150, 28, 238, 30);                                  // a rail, 2 px
+    for (int x = 150; x < 238; x += 11) stroke(x, 4, x + 2, 28);  // teeth up from it
+    SegmentConvertOptions o;
+    SegmentConvertReport rep;
+    const Document doc = convertSegmented(image, o, "box with comb", &rep);
+    for (size_t k = 0; k < rep.fallbacks.size(); ++k)
+        if (!rep.fallbacks[k].empty())
+            WARN("region " << k << " (" << rep.convert.regions[k].pixels << " px): " << rep.fallbacks[k]);
+    CHECK(rep.failedRegions == 0);
+    CHECK(rep.trimmedRegions >= 1);
+    CHECK(rep.convert.error.uncovered == 0);
+    // The comb is painted in its own colours by region meshes: not by the base mesh, nor by
+    // the blue background's mesh reaching under it (a pixel from each side covers a 2 px stroke).
+    Document regionsOnly = doc;
+    regionsOnly.meshes.erase(regionsOnly.meshes.begin());
+    const RgbaImage r = renderDocument(regionsOnly, RenderOptions{}).image;
+    long inComb = 0, painted = 0;
+    double err = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            if (comb[static_cast<size_t>(y) * image.width + x]) {
+                ++inComb;
+                const float* q = r.at(x, y);
+                if (q[3] < 0.5f) continue;
+                ++painted;
+                for (int c = 0; c < 3; ++c) err += std::fabs(q[c] - image.at(x, y)[c]) * 255 / 3;
+            }
+    const double combE = painted ? err / painted : 0;
+    INFO(painted << " of " << inComb << " comb pixels painted by region meshes, E there " << combE
+                 << ", E " << rep.convert.error.meanAbs);
+    CHECK(painted >= 0.98 * inComb);
+    CHECK(combE < 12.0);  // pink on blue would be about 90
+    CHECK(rep.convert.error.meanAbs < 3.0);
+    writeImage(renderDocument(doc, RenderOptions{}).image,
+               std::string(GRADMESH_TMP) + "/segment_comb.png");
+}

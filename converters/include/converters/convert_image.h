@@ -91,6 +91,40 @@ FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
                            const ConvertOptions& options, RegionReport& report);
 
+// What the meshes of a region converted in parts may reach under besides the region's own
+// pixels: `under` (width*height, non-zero = drawn on top of this region later; empty: nothing),
+// by `overlap` pixels (at least 1), holes of the grown outlines under `minHole` px filled.
+struct PartsBeneath {
+    int minHole = 0;
+    std::vector<uint8_t> under;
+    int overlap = 1;
+    bool at(size_t k) const { return !under.empty() && under[k]; }
+    int reach() const { return overlap > 1 ? overlap : 1; }
+};
+
+// The fallback for a region whose map squeezes even with its corners at its tips (a horse: six
+// thin parts, four corners) or whose slit map folds (holes bridged to the outline by thin
+// parts): its core without the parts thinner than 2·radius+1 px (radius 2, 4 or 7, the first
+// that works), the core reaching under its thin parts, and each thin part on its own; a thin
+// part that fails is converted in parts itself (once), and failing that in tiles (cut in halves
+// across its longer side, each half's components their own meshes, failing ones cut again up to
+// 6 times). Returns the meshes, core first; `reports` gets one report per mesh (RegionReport::part
+// says which: "core", "thin part", "thin part, tile", ...; a piece that no mesh covers gets a
+// report whose part says "left uncovered" and why). Throws MapError when no radius leaves a core
+// of at least half the region that converts.
+std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& region,
+                                         const ConvertOptions& options, const PartsBeneath& beneath,
+                                         std::vector<RegionReport>& reports, int depth = 0);
+
+// The pieces of `rest` (width*height, non-zero = in; 8-connected, under 16 px left out), each its
+// own mesh as convertInParts converts a region's thin parts (a failing piece in parts once when
+// depth is 0, else or failing that in tiles), grown into beneath.under when it is not empty.
+// Appends meshes and reports ("thin part", "thin part, tile", "thin part left uncovered: ...").
+void convertThinParts(const RgbaImage& image, const std::vector<uint8_t>& rest,
+                      const ConvertOptions& options, const PartsBeneath& beneath,
+                      std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
+                      int depth = 0);
+
 // "(N px, H holes, outline from (x, y))": how errors name a region.
 std::string regionLabel(const Region& region);
 

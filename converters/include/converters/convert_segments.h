@@ -1,6 +1,7 @@
 // Whole images (DESIGN.md §5, paper §4.6): the image is segmented into large regions
 // (segment.h), each region — holes included — becomes one mesh through the per-region pipeline
-// (convertRegion), the regions converted in parallel. No seams: each region's mesh reaches about
+// (convertRegion; a region too thin in places for one map: its core and those parts, see
+// convertSegmented), the regions converted in parallel. No seams: each region's mesh reaches about
 // a pixel under its neighbours (its outline traced around the region dilated by one pixel; its
 // colours fitted to its own pixels only), and a coarse base mesh over the whole image, drawn
 // first, paints whatever no region mesh reaches.
@@ -40,7 +41,8 @@ struct SegmentConvertReport {
     std::vector<std::string> fallbacks;   // per entry: "" or what was done when it failed
     int failedRegions = 0;       // left to the base mesh
     int filledRegions = 0;       // converted with their holes filled (inner regions on top)
-    int trimmedRegions = 0;      // converted without their parts thinner than 5 (or 11) px
+    int trimmedRegions = 0;      // converted as their core without the parts thinner than 5 (or
+                                 // 11) px, and those parts as meshes of their own
     int basePatches = 0;
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment
@@ -50,9 +52,10 @@ struct SegmentConvertReport {
 };
 
 // Throws gm::Error naming `imageName` when the image is empty or the segmentation fails; a
-// region that cannot be converted is retried with its holes filled, then without its parts
-// thinner than 5 px, then 11 px (holes filled), and else left to the base mesh (each reported in
-// `fallbacks`, never silently).
+// region that cannot be converted is retried with its holes filled, then as its core without the
+// parts thinner than 5 px, then 11 px (holes filled), plus those parts as meshes of their own
+// (convertThinParts: in parts or tiles where no map works), and else left to the base mesh (each
+// reported in `fallbacks`, never silently).
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report = nullptr);
 
