@@ -313,6 +313,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"failed\": " << segReport.failedRegions
           << ", \"holes_filled\": " << segReport.filledRegions
           << ", \"thin_parts_apart\": " << segReport.trimmedRegions
+          << ", \"split_at_necks\": " << segReport.splitRegions
           << ", \"base_patches\": " << segReport.basePatches
           << ", \"region_uncovered\": " << num(segReport.regionUncovered)
           << ",\n    \"seconds\": {\"segmentation\": " << num(segReport.segmentSeconds)

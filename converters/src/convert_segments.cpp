@@ -4,10 +4,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <thread>
 
 #include "converters/colours.h"
+#include "converters/neck.h"
 #include "converters/regions.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
@@ -45,6 +47,158 @@ RegionReport mergePartReports(const std::vector<RegionReport>& parts, const Regi
     r.error.maxAbs = maxAbs;
     r.error.uncovered = own.pixelCount > 0 ? std::min(1.0, uncovered / own.pixelCount) : 0;
     return r;
+}
+
+// How one region of a whole image was converted.
+struct RegionOutcome {
+    std::vector<GradientMesh> meshes;
+    RegionReport report;
+    std::string fallback;  // "" when converted whole at the first try
+    int how = 0;           // 0 failed (left to the base mesh), 1 whole, 2 holes filled,
+                           // 3 core + thin parts apart, 4 split at necks
+};
+
+// The region's budget: its pixels / pixelsPerPatch within [minRegionPatches, maxPatches].
+ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
+                         const SegmentConvertOptions& options) {
+    ConvertOptions co = coAll;
+    if (options.pixelsPerPatch > 0)
+        co.maxPatches = std::clamp(static_cast<int>(own.pixelCount / options.pixelsPerPatch),
+                                   std::min(options.minRegionPatches, co.maxPatches), co.maxPatches);
+    return co;
+}
+
+// One region whole, reaching under `under` (the regions drawn later); failing that with its
+// holes filled, then as its core plus its thin parts apart; else nothing (how 0).
+RegionOutcome convertOneRegion(const RgbaImage& image, const Region& own,
+                               const std::vector<uint8_t>& under, const ConvertOptions& co,
+                               const SegmentConvertOptions& options) {
+    RegionOutcome out;
+    std::string& why = out.fallback;
+    try {
+        out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
+                                    out.report)};
+        out.how = 1;
+        return out;
+    } catch (const Error& e) {
+        why = e.reason();
+    } catch (const std::exception& e) {
+        why = e.what();
+    }
+    if (!own.holes.empty()) {
+        // Its holes are other regions, drawn on top: the region without them still paints its
+        // own pixels.
+        try {
+            out.meshes = {convertRegion(
+                image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
+                co, out.report)};
+            out.how = 2;
+            why = "holes filled (" + why + ")";
+            return out;
+        } catch (const std::exception& e) {
+            why += "; with holes filled: " + std::string(e.what());
+        }
+    }
+    // Its core without its thin parts, then each thin part its own mesh on top (in parts or
+    // tiles where no map works: convertThinParts), reaching under the later regions and a
+    // pixel over the core.
+    for (const int radius : {2, 5}) try {
+        const std::vector<uint8_t> core = openMask(own.mask, own.width, own.height, radius);
+        RegionOptions ro;
+        ro.minArea = 16;
+        ro.minHole = std::numeric_limits<int>::max();
+        std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, core), ro);
+        if (rs.empty()) throw Error("nothing is left without its thin parts");
+        Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
+        out.meshes = {convertRegion(image, trimmed, co, out.report)};
+        out.how = 3;
+        std::vector<uint8_t> rest(own.mask.size());
+        PartsBeneath beneath;
+        beneath.under = under;
+        beneath.overlap = options.overlap;
+        for (size_t p = 0; p < rest.size(); ++p) {
+            rest[p] = own.mask[p] && !rs.front().mask[p];
+            beneath.under[p] = beneath.under[p] || rs.front().mask[p];
+        }
+        std::vector<RegionReport> parts{out.report};
+        convertThinParts(image, rest, co, beneath, out.meshes, parts);
+        out.report = mergePartReports(parts, own);
+        why = "parts thinner than " + std::to_string(2 * radius + 1) + " px (" +
+              std::to_string(own.pixelCount - rs.front().pixelCount) + " px) as " +
+              std::to_string(out.meshes.size() - 1) + " meshes of their own: " + why;
+        return out;
+    } catch (const std::exception& e) {
+        why += "; without parts thinner than " + std::to_string(2 * radius + 1) +
+               " px: " + std::string(e.what());
+    }
+    out.meshes.clear();
+    out.report = RegionReport{};
+    out.report.pixels = own.pixelCount;
+    out.report.holes = static_cast<int>(own.holes.size());
+    why = "left to the base mesh (" + why + ")";
+    return out;
+}
+
+// convertOneRegion, and when that misses the error target by more than neckErrorFactor (or
+// fails), the region cut at its narrowest neck (findNeck) with each side converted the same way
+// (recursively, up to neckSplits cuts deep), kept when its error over the region is lower.
+RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
+                                   const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                                   const SegmentConvertOptions& options, int depth) {
+    const ConvertOptions co = budgetFor(own, coAll, options);
+    RegionOutcome out = convertOneRegion(image, own, under, co, options);
+    const double e = out.report.error.meanAbs;
+    if (depth >= options.neckSplits || own.pixelCount < options.neckMinPixels ||
+        (out.how != 0 && e <= co.maxError * options.neckErrorFactor))
+        return out;
+    const std::optional<NeckCut> cut = findNeck(own, options.neck);
+    if (!cut) return out;
+    RegionOptions ro;
+    ro.minArea = 1;
+    ro.minHole = coAll.minHole;
+    std::vector<RegionReport> parts;
+    std::vector<GradientMesh> meshes;
+    std::vector<std::string> notes;
+    // Side 1 is drawn first and reaches under side 2.
+    for (const uint8_t side : {uint8_t(1), uint8_t(2)}) {
+        std::vector<uint8_t> bits(own.mask.size()), beneath = under;
+        for (size_t p = 0; p < bits.size(); ++p) {
+            bits[p] = cut->side[p] == side;
+            if (side == 1 && cut->side[p] == 2) beneath[p] = 1;
+        }
+        std::vector<Region> pieces;
+        try {
+            pieces = extractRegions(coverageFromBits(own.width, own.height, bits), ro);
+        } catch (const Error&) {
+            continue;
+        }
+        for (const Region& piece : pieces) {
+            RegionOutcome sub = convertSegmentRegion(image, piece, beneath, coAll, options, depth + 1);
+            for (GradientMesh& m : sub.meshes) meshes.push_back(std::move(m));
+            if (sub.how == 0) sub.report.part = "left uncovered";
+            parts.push_back(sub.report);
+            if (!sub.fallback.empty()) notes.push_back(sub.fallback);
+        }
+    }
+    if (parts.empty()) return out;
+    RegionReport merged = mergePartReports(parts, own);
+    merged.part = "split at a neck into " + std::to_string(parts.size());
+    const bool better = out.how == 0 ? !meshes.empty()
+                                     : merged.error.meanAbs < 0.95 * e &&
+                                           merged.error.uncovered <= out.report.error.uncovered + 0.001;
+    if (!better) return out;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "split at a neck (%.0f px chord at (%.0f, %.0f)-(%.0f, %.0f)): E %.2f -> %.2f",
+                  norm(cut->b - cut->a), cut->a.x, cut->a.y, cut->b.x, cut->b.y, e,
+                  merged.error.meanAbs);
+    std::string why = buf;
+    if (!out.fallback.empty()) why += "; whole: " + out.fallback;
+    for (const std::string& note : notes) why += "; a side: " + note;
+    out.meshes = std::move(meshes);
+    out.report = std::move(merged);
+    out.fallback = std::move(why);
+    out.how = 4;
+    return out;
 }
 
 using Clock = std::chrono::steady_clock;
@@ -133,76 +287,11 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     t0 = Clock::now();
     auto work = [&]() {
         for (size_t k; (k = next.fetch_add(1)) < n;) {
-            const Region& own = regions[k];
-            ConvertOptions co = coAll;
-            if (options.pixelsPerPatch > 0)
-                co.maxPatches = std::clamp(
-                    static_cast<int>(own.pixelCount / options.pixelsPerPatch),
-                    std::min(options.minRegionPatches, co.maxPatches), co.maxPatches);
-            const std::vector<uint8_t> under = later(k);
-            try {
-                meshes[k] = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
-                                           reports[k])};
-                ok[k] = 1;
-                continue;
-            } catch (const Error& e) {
-                fallbacks[k] = e.reason();
-            } catch (const std::exception& e) {
-                fallbacks[k] = e.what();
-            }
-            if (!own.holes.empty()) {
-                // Its holes are other regions, drawn on top: the region without them still
-                // paints its own pixels.
-                try {
-                    meshes[k] = {convertRegion(
-                        image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
-                        co, reports[k])};
-                    ok[k] = 2;
-                    fallbacks[k] = "holes filled (" + fallbacks[k] + ")";
-                    continue;
-                } catch (const std::exception& e) {
-                    fallbacks[k] += "; with holes filled: " + std::string(e.what());
-                }
-            }
-            // Its core without its thin parts, then each thin part its own mesh on top (in
-            // parts or tiles where no map works: convertThinParts), reaching under the later
-            // regions and a pixel over the core.
-            for (const int radius : {2, 5}) try {
-                const std::vector<uint8_t> core = openMask(own.mask, own.width, own.height, radius);
-                RegionOptions ro;
-                ro.minArea = 16;
-                ro.minHole = std::numeric_limits<int>::max();
-                std::vector<Region> rs =
-                    extractRegions(coverageFromBits(own.width, own.height, core), ro);
-                if (rs.empty()) throw Error("nothing is left without its thin parts");
-                Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
-                meshes[k] = {convertRegion(image, trimmed, co, reports[k])};
-                ok[k] = 3;
-                std::vector<uint8_t> rest(own.mask.size());
-                PartsBeneath beneath;
-                beneath.under = under;
-                beneath.overlap = options.overlap;
-                for (size_t p = 0; p < rest.size(); ++p) {
-                    rest[p] = own.mask[p] && !rs.front().mask[p];
-                    beneath.under[p] = beneath.under[p] || rs.front().mask[p];
-                }
-                std::vector<RegionReport> parts{reports[k]};
-                convertThinParts(image, rest, co, beneath, meshes[k], parts);
-                reports[k] = mergePartReports(parts, own);
-                fallbacks[k] = "parts thinner than " + std::to_string(2 * radius + 1) + " px (" +
-                               std::to_string(own.pixelCount - rs.front().pixelCount) +
-                               " px) as " + std::to_string(meshes[k].size() - 1) +
-                               " meshes of their own: " + fallbacks[k];
-                break;
-            } catch (const std::exception& e) {
-                fallbacks[k] += "; without parts thinner than " + std::to_string(2 * radius + 1) +
-                                " px: " + std::string(e.what());
-            }
-            if (ok[k]) continue;
-            reports[k] = RegionReport{};
-            reports[k].pixels = own.pixelCount;
-            reports[k].holes = static_cast<int>(own.holes.size());
-            fallbacks[k] = "left to the base mesh (" + fallbacks[k] + ")";
+            RegionOutcome out = convertSegmentRegion(image, regions[k], later(k), coAll, options, 0);
+            meshes[k] = std::move(out.meshes);
+            reports[k] = std::move(out.report);
+            fallbacks[k] = std::move(out.fallback);
+            ok[k] = static_cast<char>(out.how);
         }
     };
     {
@@ -227,6 +316,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             for (GradientMesh& m : meshes[k]) doc.meshes.push_back(std::move(m));
             if (ok[k] == 2) ++rep.filledRegions;
             if (ok[k] == 3) ++rep.trimmedRegions;
+            if (ok[k] == 4) ++rep.splitRegions;
         } else {
             ++rep.failedRegions;
         }
