@@ -56,6 +56,7 @@ struct RegionOutcome {
     std::string fallback;  // "" when converted whole at the first try
     int how = 0;           // 0 failed (left to the base mesh), 1 whole, 2 holes filled,
                            // 3 core + thin parts apart, 4 split at necks
+    std::string sideNotes;  // how 4: what the sides' own conversions did
 };
 
 // The region's budget: its pixels / pixelsPerPatch within [minRegionPatches, maxPatches].
@@ -68,23 +69,30 @@ ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
     return co;
 }
 
-// One region whole, reaching under `under` (the regions drawn later); failing that with its
-// holes filled, then as its core plus its thin parts apart; else nothing (how 0).
-RegionOutcome convertOneRegion(const RgbaImage& image, const Region& own,
-                               const std::vector<uint8_t>& under, const ConvertOptions& co,
-                               const SegmentConvertOptions& options) {
+// One region whole, reaching under `under` (the regions drawn later): how 1, or how 0 with the
+// reason in `fallback`.
+RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
+                           const std::vector<uint8_t>& under, const ConvertOptions& co,
+                           const SegmentConvertOptions& options) {
     RegionOutcome out;
-    std::string& why = out.fallback;
     try {
         out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
                                     out.report)};
         out.how = 1;
-        return out;
     } catch (const Error& e) {
-        why = e.reason();
+        out.fallback = e.reason();
     } catch (const std::exception& e) {
-        why = e.what();
+        out.fallback = e.what();
     }
+    return out;
+}
+
+// After convertWhole failed (`out`, its reason in out.fallback): the region with its holes
+// filled, then as its core plus its thin parts apart; else nothing (how 0).
+RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
+                               const std::vector<uint8_t>& under, const ConvertOptions& co,
+                               const SegmentConvertOptions& options, RegionOutcome out) {
+    std::string& why = out.fallback;
     if (!own.holes.empty()) {
         // Its holes are other regions, drawn on top: the region without them still paints its
         // own pixels.
@@ -139,66 +147,102 @@ RegionOutcome convertOneRegion(const RgbaImage& image, const Region& own,
     return out;
 }
 
-// convertOneRegion, and when that misses the error target by more than neckErrorFactor (or
-// fails), the region cut at its narrowest neck (findNeck) with each side converted the same way
-// (recursively, up to neckSplits cuts deep), kept when its error over the region is lower.
 RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
                                    const std::vector<uint8_t>& under, const ConvertOptions& coAll,
-                                   const SegmentConvertOptions& options, int depth) {
-    const ConvertOptions co = budgetFor(own, coAll, options);
-    RegionOutcome out = convertOneRegion(image, own, under, co, options);
-    const double e = out.report.error.meanAbs;
-    if (depth >= options.neckSplits || own.pixelCount < options.neckMinPixels ||
-        (out.how != 0 && e <= co.maxError * options.neckErrorFactor))
-        return out;
-    const std::optional<NeckCut> cut = findNeck(own, options.neck);
-    if (!cut) return out;
+                                   const SegmentConvertOptions& options, int depth);
+
+// The region cut at `cut`, each side's pieces converted by convertSegmentRegion (side 1 drawn
+// first, reaching under side 2); how 4, or how 0 when nothing converted. `complete`: every
+// piece converted.
+RegionOutcome convertSides(const RgbaImage& image, const Region& own,
+                           const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                           const SegmentConvertOptions& options, int depth, const NeckCut& cut,
+                           bool& complete) {
     RegionOptions ro;
     ro.minArea = 1;
     ro.minHole = coAll.minHole;
     std::vector<RegionReport> parts;
-    std::vector<GradientMesh> meshes;
+    RegionOutcome split;
     std::vector<std::string> notes;
-    // Side 1 is drawn first and reaches under side 2.
+    complete = true;
     for (const uint8_t side : {uint8_t(1), uint8_t(2)}) {
         std::vector<uint8_t> bits(own.mask.size()), beneath = under;
         for (size_t p = 0; p < bits.size(); ++p) {
-            bits[p] = cut->side[p] == side;
-            if (side == 1 && cut->side[p] == 2) beneath[p] = 1;
+            bits[p] = cut.side[p] == side;
+            if (side == 1 && cut.side[p] == 2) beneath[p] = 1;
         }
         std::vector<Region> pieces;
         try {
             pieces = extractRegions(coverageFromBits(own.width, own.height, bits), ro);
         } catch (const Error&) {
+            complete = false;
             continue;
         }
         for (const Region& piece : pieces) {
             RegionOutcome sub = convertSegmentRegion(image, piece, beneath, coAll, options, depth + 1);
-            for (GradientMesh& m : sub.meshes) meshes.push_back(std::move(m));
-            if (sub.how == 0) sub.report.part = "left uncovered";
+            for (GradientMesh& m : sub.meshes) split.meshes.push_back(std::move(m));
+            if (sub.how == 0) {
+                sub.report.part = "left uncovered";
+                complete = false;
+            }
             parts.push_back(sub.report);
             if (!sub.fallback.empty()) notes.push_back(sub.fallback);
         }
     }
-    if (parts.empty()) return out;
-    RegionReport merged = mergePartReports(parts, own);
-    merged.part = "split at a neck into " + std::to_string(parts.size());
-    const bool better = out.how == 0 ? !meshes.empty()
-                                     : merged.error.meanAbs < 0.95 * e &&
-                                           merged.error.uncovered <= out.report.error.uncovered + 0.001;
-    if (!better) return out;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "split at a neck (%.0f px chord at (%.0f, %.0f)-(%.0f, %.0f)): E %.2f -> %.2f",
-                  norm(cut->b - cut->a), cut->a.x, cut->a.y, cut->b.x, cut->b.y, e,
-                  merged.error.meanAbs);
-    std::string why = buf;
-    if (!out.fallback.empty()) why += "; whole: " + out.fallback;
-    for (const std::string& note : notes) why += "; a side: " + note;
-    out.meshes = std::move(meshes);
-    out.report = std::move(merged);
-    out.fallback = std::move(why);
-    out.how = 4;
-    return out;
+    if (parts.empty() || split.meshes.empty()) {
+        complete = false;
+        return RegionOutcome{};
+    }
+    split.report = mergePartReports(parts, own);
+    split.report.part = "split at a neck into " + std::to_string(parts.size());
+    split.how = 4;
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "split at a neck (%.0f px chord at (%.0f, %.0f)-(%.0f, %.0f))",
+                  norm(cut.b - cut.a), cut.a.x, cut.a.y, cut.b.x, cut.b.y);
+    split.fallback = buf;
+    for (const std::string& note : notes) split.sideNotes += "; a side: " + note;
+    return split;
+}
+
+// The region whole; when that misses the error target by more than neckErrorFactor or fails,
+// the region cut at its narrowest neck (findNeck) with each side converted the same way
+// (recursively, up to neckSplits cuts deep). A cut is kept when it lowers the region's error by
+// 5 %, or, where the whole failed, when every side converted; else the whole's fallbacks
+// (convertFallbacks) are tried, and the better of those and the cut kept.
+RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
+                                   const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                                   const SegmentConvertOptions& options, int depth) {
+    const ConvertOptions co = budgetFor(own, coAll, options);
+    RegionOutcome out = convertWhole(image, own, under, co, options);
+    const double target = co.maxError * options.neckErrorFactor;
+    std::optional<NeckCut> cut;
+    if (depth < options.neckSplits && own.pixelCount >= options.neckMinPixels &&
+        (out.how == 0 || out.report.error.meanAbs > target))
+        cut = findNeck(own, options.neck);
+    RegionOutcome split;
+    bool complete = false;
+    if (cut) split = convertSides(image, own, under, coAll, options, depth, *cut, complete);
+    auto take = [&](RegionOutcome& whole) {
+        const double e = whole.report.error.meanAbs;
+        const bool better = split.how != 0 &&
+                            (whole.how == 0 ||
+                             (split.report.error.meanAbs < 0.95 * e &&
+                              split.report.error.uncovered <= whole.report.error.uncovered + 0.001));
+        if (!better) return std::move(whole);
+        char buf[64];
+        std::snprintf(buf, sizeof buf, ": E %.2f -> %.2f", e, split.report.error.meanAbs);
+        if (whole.how != 0) split.fallback += buf;
+        split.fallback += split.sideNotes;
+        if (!whole.fallback.empty()) split.fallback += "; whole: " + whole.fallback;
+        return std::move(split);
+    };
+    if (out.how != 0) return take(out);
+    if (complete) {
+        split.fallback += split.sideNotes + "; whole: " + out.fallback;
+        return split;
+    }
+    RegionOutcome fallback = convertFallbacks(image, own, under, co, options, std::move(out));
+    return take(fallback);
 }
 
 using Clock = std::chrono::steady_clock;
