@@ -294,20 +294,15 @@ void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOp
                     const PartsBeneath& beneath, std::vector<GradientMesh>& meshes,
                     std::vector<RegionReport>& reports, const std::string& reason, int depth = 0) {
     const int w = piece.width, h = piece.height;
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (piece.mask[static_cast<size_t>(y) * w + x]) {
-                x0 = std::min(x0, x), x1 = std::max(x1, x);
-                y0 = std::min(y0, y), y1 = std::max(y1, y);
-            }
+    const PixelBox box = maskBounds(piece.mask, w, h);
+    const int x0 = box.x0, y0 = box.y0, x1 = box.x1, y1 = box.y1;
     auto leftUncovered = [&](int pixels, const std::string& why) {
         RegionReport pr;
         pr.pixels = pixels;
         pr.part = "tile left uncovered: " + why;
         reports.push_back(pr);
     };
-    if (x1 < 0) return;
+    if (box.empty()) return;
     if (depth >= kMaxTileDepth || (x1 == x0 && y1 == y0)) {
         leftUncovered(piece.pixelCount, reason);
         return;

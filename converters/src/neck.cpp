@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "converters/regions.h"
+
 namespace gm {
 
 namespace {
@@ -119,14 +121,9 @@ std::optional<NeckCut> findNeck(const Region& region, const NeckOptions& options
     cut.b = q[bj];
     cut.ratio = best;
     cut.side.assign(region.mask.size(), 0);
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (region.mask[static_cast<size_t>(y) * w + x]) {
-                x0 = std::min(x0, x), x1 = std::max(x1, x);
-                y0 = std::min(y0, y), y1 = std::max(y1, y);
-            }
-    if (x1 < 0) return std::nullopt;
+    const PixelBox box = maskBounds(region.mask, w, h);
+    if (box.empty()) return std::nullopt;
+    const int x0 = box.x0, y0 = box.y0, x1 = box.x1, y1 = box.y1;
     std::vector<double> xs;
     for (int y = y0; y <= y1; ++y) {
         const double yc = y + 0.5;

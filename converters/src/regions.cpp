@@ -584,6 +584,17 @@ Region growRegionInto(const Region& own, int overlap, int minHole, const std::ve
     return g;
 }
 
+PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h) {
+    PixelBox b{w, h, -1, -1};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (mask[static_cast<size_t>(y) * w + x]) {
+                b.x0 = std::min(b.x0, x), b.x1 = std::max(b.x1, x);
+                b.y0 = std::min(b.y0, y), b.y1 = std::max(b.y1, y);
+            }
+    return b.x1 < 0 ? PixelBox{} : b;
+}
+
 std::vector<uint8_t> openMask(const std::vector<uint8_t>& mask, int w, int h, int radius) {
     std::vector<uint8_t> inv(mask.size());
     for (size_t k = 0; k < mask.size(); ++k) inv[k] = !mask[k];

@@ -58,6 +58,14 @@ std::vector<Region> extractRegions(const Coverage& coverage, const RegionOptions
 std::vector<Region> extractRegionsFromLabels(int width, int height, const std::vector<int>& labels,
                                              const RegionOptions& options = {});
 
+// The smallest box of pixels holding every non-zero pixel of a mask (width*height); empty()
+// when there is none.
+struct PixelBox {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive
+    bool empty() const { return x1 < x0; }
+};
+PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h);
+
 // The mask (width*height, non-zero = in) grown by `radius` pixels (a square neighbourhood).
 std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius);
 
