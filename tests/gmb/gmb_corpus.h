@@ -1,15 +1,20 @@
-// The deterministic documents behind tests/data/gmb: golden files of version 1.0 and the
-// malformed corpus, each with the message its reading must produce. Only IEEE-exact arithmetic
-// (no libm calls), so that the same bytes come out on every platform.
+// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 and 1.1 and
+// the malformed corpus, each with the message its reading must produce. Only IEEE-exact
+// arithmetic (no libm calls but exact ones: frexp, ldexp, llround), so that the same bytes come
+// out on every platform.
 //
 // To regenerate after a deliberate format change (then bump the version and keep the old files):
 //   build-gmb/tests/gmb/test_gmb "[.generate]"
+// The golden files of earlier versions are not regenerated (today's writer writes the newest
+// version); the malformed cases built from a compressed 1.0 section read golden-1.0-compact.gmb.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "formats/gmb.h"
+#include "gmb_spec_coded.h"
 #include "gmb_test_support.h"
 #include "meshcore/color_rule.h"
 
@@ -115,6 +120,76 @@ inline gm::Document goldenCompactRule() {
     return d;
 }
 
+// Moves every stored derivative of `m` onto the grid of encoding 2 (tangents in steps of 1/8 px
+// and 1/128 over the span of their node, gmb_format.cpp), with the writer's exponents.
+inline void snapToCodedGrid(gm::GradientMesh& m) {
+    double minStep = m.u[1] - m.u[0];
+    for (size_t i = 1; i < m.u.size(); ++i) minStep = std::min(minStep, m.u[i] - m.u[i - 1]);
+    for (size_t j = 1; j < m.v.size(); ++j) minStep = std::min(minStep, m.v[j] - m.v[j - 1]);
+    int p = 0;
+    std::frexp(minStep, &p);
+    const int eKnot = p - 22;
+    std::vector<int64_t> ku, kv;
+    for (double x : m.u) ku.push_back(std::llround(std::ldexp(x, -eKnot)));
+    for (double x : m.v) kv.push_back(std::llround(std::ldexp(x, -eKnot)));
+    const std::vector<int64_t> Du = specSpans(ku), Dv = specSpans(kv);
+    auto snap = [&](double& x, int e, int64_t D) {
+        const int64_t q = std::llround(std::ldexp(x * static_cast<double>(D), eKnot - e));
+        x = std::ldexp(static_cast<double>(q), e - eKnot) / static_cast<double>(D);
+    };
+    auto node = [&](gm::Node& n, size_t i, size_t j) {
+        snap(n.posU.x, -3, Du[i]);
+        snap(n.posU.y, -3, Du[i]);
+        snap(n.posV.x, -3, Dv[j]);
+        snap(n.posV.y, -3, Dv[j]);
+        for (int c = 0; c < 3; ++c) {
+            snap(n.colU[c], -7, Du[i]);
+            snap(n.colV[c], -7, Dv[j]);
+        }
+    };
+    const size_t stride = m.u.size();
+    for (size_t k = 0; k < m.nodes.size(); ++k) node(m.nodes[k], k % stride, k / stride);
+    for (gm::Slit& s : m.slits) {
+        for (size_t b = 0; b < s.below.size(); ++b)
+            node(s.below[b], static_cast<size_t>(s.i0) + 1 + b, static_cast<size_t>(s.row));
+        for (auto end : {std::make_pair(&s.left, s.i0), std::make_pair(&s.right, s.i1)}) {
+            snap(end.first->posU.x, -3, Du[static_cast<size_t>(end.second)]);
+            snap(end.first->posU.y, -3, Du[static_cast<size_t>(end.second)]);
+            for (int c = 0; c < 3; ++c)
+                snap(end.first->colU[c], -7, Du[static_cast<size_t>(end.second)]);
+        }
+    }
+    for (gm::CornerTangent& t : m.tangents) {
+        const size_t column = static_cast<size_t>(t.i + t.a);
+        snap(t.posU.x, -3, Du[column]);
+        snap(t.posU.y, -3, Du[column]);
+        for (int c = 0; c < 3; ++c) snap(t.colU[c], -7, Du[column]);
+    }
+}
+
+// goldenCompact with its derivatives on the grid of encoding 2, so that a compact round trip
+// (version 1.1) is exact.
+inline gm::Document goldenCompact11() {
+    gm::Document d = goldenCompact();
+    for (gm::GradientMesh& m : d.meshes) snapToCodedGrid(m);
+    return d;
+}
+
+// goldenCompact11 with the colour rule applied to mesh 1: its colour derivatives are not stored.
+inline gm::Document goldenCompact11Rule() {
+    gm::Document d = goldenCompact11();
+    gm::applyColorRule(d.meshes[1]);
+    return d;
+}
+
+// A file with one section's payload replaced (sizes and CRC follow; stored, codec 0).
+inline std::string withPayload(const std::string& file, const std::string& tag, int nth,
+                               const std::string& payload) {
+    const SectionInfo i = findSection(file, tag, nth);
+    const std::string head = file.substr(i.offset, 4);
+    return file.substr(0, i.offset) + section(head, payload, i.flags, 0) + file.substr(i.end());
+}
+
 // A newer minor (1.1) file: DOCU and MESH carry appended fields and an unknown optional
 // section stands before END. A 1.0 reader must read it as goldenLossless.
 inline std::string goldenNewerMinor() {
@@ -142,7 +217,10 @@ struct Malformed {
 inline std::vector<Malformed> malformedCorpus() {
     std::vector<Malformed> out;
     const std::string good = specEncode(goldenLossless());
-    const std::string compact = gm::encodeGmb(goldenCompact(), true);
+    // Version 1.0 compact, the compressed sections of which the compressed-* cases edit.
+    const std::string compact =
+        readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.0-compact.gmb");
+    const std::string coded = gm::encodeGmb(goldenCompact11(), true);
     auto edit = [&](const std::string& base, const std::string& tag, int nth, size_t at,
                     uint64_t value, int width) {
         std::string s = base;
@@ -250,6 +328,51 @@ inline std::vector<Malformed> malformedCorpus() {
                    "stored uncompressed but declares 80 bytes for a 88-byte payload"});
     out.push_back({"unknown-codec.gmb", edit(good, "NODE", 0, 5, 9, 1), "unknown compression method 9"});
     out.push_back({"unknown-encoding.gmb", edit(good, "MESH", 0, 24 + 16, 7, 1), "unknown mesh encoding 7"});
+
+    // Encoding 2 (range-coded NODE, version 1.1). Mesh 1 is the 2x1 mesh: 6 nodes, 15 planes.
+    {
+        std::string s = coded;
+        setLE(s, 10, 0, 2);
+        out.push_back({"coded-in-version-1.0.gmb", s, "mesh encoding 2 needs format version 1.1"});
+    }
+    out.push_back({"coded-exponent-out-of-range.gmb",
+                   edit(coded, "MESH", 0, 24 + 18 + 2 * 2, 40, 2),
+                   "derivative quantisation exponent 40 out of range"});
+    {
+        const SectionInfo node = findSection(coded, "NODE", 1);
+        const std::string payload = coded.substr(node.payload(), static_cast<size_t>(node.stored));
+        out.push_back({"coded-node-truncated.gmb",
+                       withPayload(coded, "NODE", 1, payload.substr(0, payload.size() - 2)),
+                       "truncated"});
+        out.push_back({"coded-node-trailing-bytes.gmb",
+                       withPayload(coded, "NODE", 1, payload + std::string("\0\0", 2)),
+                       "2 unexpected bytes at the end of the NODE payload"});
+        out.push_back({"coded-node-weights-only.gmb",
+                       withPayload(coded, "NODE", 1, payload.substr(0, 20)), "truncated"});
+        // Weights: pos.x's a of 40000, the rest 0; then a stream of zero residuals.
+        std::string weights;
+        putSvarint(weights, 40000);
+        for (int k = 0; k < 34; ++k) putSvarint(weights, 0);
+        SpecRangeEncoder zeros;
+        SpecPlaneModels models[15];
+        for (int p = 0; p < 15; ++p)
+            for (int k = 0; k < 6; ++k) zeros.residual(models[p], 0, 0);
+        const std::string stream = zeros.finish();
+        out.push_back({"coded-weight-out-of-range.gmb",
+                       withPayload(coded, "NODE", 1, weights + stream),
+                       "plane weight 40000 out of range"});
+        std::string nonZero = std::string(35, '\0') + stream;
+        nonZero[35] = 1;
+        out.push_back({"coded-stream-first-byte.gmb", withPayload(coded, "NODE", 1, nonZero),
+                       "corrupt range-coded data"});
+        // A residual of 2^60 for the first value: beyond the ±2^53 of a quantised value.
+        SpecRangeEncoder huge;
+        SpecPlaneModels m;
+        huge.residual(m, 0, int64_t(1) << 60);
+        out.push_back({"coded-value-out-of-range.gmb",
+                       withPayload(coded, "NODE", 1, std::string(35, '\0') + huge.finish()),
+                       "quantised value out of range"});
+    }
     return out;
 }
 

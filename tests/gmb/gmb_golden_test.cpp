@@ -1,5 +1,5 @@
-// Golden .gmb files of version 1.0 (tests/data/gmb): a later reader must still read them to the
-// same documents. gmb_corpus.h says how they were made.
+// Golden .gmb files of versions 1.0 and 1.1 (tests/data/gmb): a later reader must still read
+// them to the same documents. gmb_corpus.h says how they were made.
 #include <catch2/catch.hpp>
 
 #include "formats/gmb.h"
@@ -77,19 +77,57 @@ TEST_CASE("golden 1.0 compact file with rule colour derivatives recomputes them"
     CHECK(gm::followsColorRule(d.meshes[1]));
 }
 
+TEST_CASE("golden 1.1 compact file reads to its document exactly", "[golden][roundtrip]") {
+    const std::string bytes = golden("golden-1.1-compact.gmb");
+    CHECK(gmbtest::getLE(bytes, 10, 2) == 1);  // minor version
+    for (int k = 0; k < 2; ++k) {
+        const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", k);
+        CHECK(bytes[mesh.payload() + 16] == 2);  // encoding 2
+        CHECK(gmbtest::findSection(bytes, "NODE", k).codec == 0);
+    }
+    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.1-compact.gmb");
+    // Known values, independent of the generator: positions and colours as in 1.0; a
+    // derivative is its tangent q · 2^-3 (or 2^-7 for colour) over the node's span in knot
+    // quanta of 2^-23: column 0 of mesh 0 spans 0.25 (2^21 quanta, + 2).
+    CHECK(d.meshes[0].node(5, 4).pos.x == 10 + 10.125 * 5 + 4 / 32.0);
+    // posU.x = 30 + 1/64 at (0,1): 30.015625 · 0.25 · 8 = 60.03 -> 60 over 2^21 + 2 quanta
+    CHECK(d.meshes[0].node(0, 1).posU.x == 60 * 1048576.0 / 2097154.0);
+    // colU.r = 10/512 in column 4 (span 1): 2.5 · (1 + 2^-22) · ... -> 3 over 2^23 + 2 quanta
+    CHECK(d.meshes[0].node(4, 0).colU.r == 3 * 65536.0 / 8388610.0);
+    // the left slit end (column 1, span 0.25): -7.75 · 0.25 · 8 = -15.5 (and a little) -> -16
+    CHECK(d.meshes[0].slits[0].left.posU.y == -16 * 1048576.0 / 2097154.0);
+    REQUIRE(d == gmbtest::goldenCompact11());
+    // Compact is stable on its own grid: the writer gives back what it read.
+    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+}
+
+TEST_CASE("golden 1.1 compact file with rule colour derivatives recomputes them",
+          "[golden][roundtrip]") {
+    const std::string bytes = golden("golden-1.1-compact-rule.gmb");
+    const gmbtest::SectionInfo mesh1 = gmbtest::findSection(bytes, "MESH", 1);
+    CHECK((bytes[mesh1.payload() + 17] & 1) == 1);
+    CHECK(bytes[mesh1.payload() + 16] == 2);
+    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.1-compact-rule.gmb");
+    REQUIRE(d == gmbtest::goldenCompact11Rule());
+    CHECK(gm::followsColorRule(d.meshes[1]));
+}
+
 TEST_CASE("a 1.1 file with appended fields and unknown optional sections reads", "[golden][malformed]") {
     const std::string bytes = golden("golden-1.1-optional-sections.gmb");
     CHECK(bytes == gmbtest::goldenNewerMinor());
     REQUIRE(gm::decodeGmb(bytes, gm::ReadLimits{}) == gmbtest::goldenLossless());
 }
 
-// Writes the golden files and the malformed corpus; run by hand only (see gmb_corpus.h).
+// Writes the golden files and the malformed corpus; run by hand only (see gmb_corpus.h). The
+// 1.0 compact files came from the 1.0 writer and stay as they are; lossless files are still 1.0.
 TEST_CASE("generate the golden files and the malformed corpus", "[.generate]") {
-    gmbtest::writeFile(kDir + "golden-1.0-lossless.gmb", gm::encodeGmb(gmbtest::goldenLossless(), false));
-    gmbtest::writeFile(kDir + "golden-1.0-compact.gmb", gm::encodeGmb(gmbtest::goldenCompact(), true));
-    gmbtest::writeFile(kDir + "golden-1.0-compact-rule.gmb",
-                       gm::encodeGmb(gmbtest::goldenCompactRule(), true));
+    gmbtest::writeFile(kDir + "golden-1.0-lossless.gmb",
+                       gm::encodeGmb(gmbtest::goldenLossless(), false));
     gmbtest::writeFile(kDir + "golden-1.1-optional-sections.gmb", gmbtest::goldenNewerMinor());
+    gmbtest::writeFile(kDir + "golden-1.1-compact.gmb",
+                       gm::encodeGmb(gmbtest::goldenCompact11(), true));
+    gmbtest::writeFile(kDir + "golden-1.1-compact-rule.gmb",
+                       gm::encodeGmb(gmbtest::goldenCompact11Rule(), true));
     for (const gmbtest::Malformed& m : gmbtest::malformedCorpus())
         gmbtest::writeFile(kDir + "malformed/" + m.name, m.bytes);
 }

@@ -3,11 +3,14 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "formats/gmb.h"
+#include "gmb_spec_coded.h"
 #include "gmb_test_support.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
+#include "meshcore/split_legacy.h"
 #include "meshcore/synthetic_meshes.h"
 
 using gm::Document;
@@ -43,10 +46,15 @@ void requireLosslessRoundTrip(const Document& doc) {
     REQUIRE(gmbtest::specEncode(doc) == bytes);
 }
 
-double maxInterval(const std::vector<double>& k) {
-    double m = 0;
-    for (size_t i = 1; i < k.size(); ++i) m = std::max(m, k[i] - k[i - 1]);
-    return m;
+// The larger knot interval next to each knot: what GmbCompactBounds scales the derivatives of
+// that column (or row) by.
+std::vector<double> neighbouringIntervals(const std::vector<double>& k) {
+    std::vector<double> out(k.size(), 0.0);
+    for (size_t i = 0; i < k.size(); ++i) {
+        if (i > 0) out[i] = std::max(out[i], k[i] - k[i - 1]);
+        if (i + 1 < k.size()) out[i] = std::max(out[i], k[i + 1] - k[i]);
+    }
+    return out;
 }
 double minInterval(const std::vector<double>& k) {
     double m = INFINITY;
@@ -70,11 +78,15 @@ Deviation compactDeviation(const GradientMesh& a, const GradientMesh& b, bool co
     REQUIRE(a.nodes.size() == b.nodes.size());
     REQUIRE(a.slits.size() == b.slits.size());
     REQUIRE(a.tangents.size() == b.tangents.size());
-    const double du = maxInterval(a.u), dv = maxInterval(a.v);
+    const std::vector<double> intervalU = neighbouringIntervals(a.u),
+                              intervalV = neighbouringIntervals(a.v);
     const double minStep = std::min(minInterval(a.u), minInterval(a.v));
     for (size_t i = 0; i < a.u.size(); ++i) track(d.knot, a.u[i], b.u[i], 1 / minStep);
     for (size_t j = 0; j < a.v.size(); ++j) track(d.knot, a.v[j], b.v[j], 1 / minStep);
-    auto node = [&](const gm::Node& x, const gm::Node& y) {
+    const size_t stride = a.u.size();
+    // A node in column i, row j.
+    auto node = [&](const gm::Node& x, const gm::Node& y, size_t i, size_t j) {
+        const double du = intervalU[i], dv = intervalV[j];
         track(d.pos, x.pos.x, y.pos.x);
         track(d.pos, x.pos.y, y.pos.y);
         track(d.posTangent, x.posU.x, y.posU.x, du);
@@ -89,15 +101,19 @@ Deviation compactDeviation(const GradientMesh& a, const GradientMesh& b, bool co
             }
         }
     };
-    for (size_t k = 0; k < a.nodes.size(); ++k) node(a.nodes[k], b.nodes[k]);
+    for (size_t k = 0; k < a.nodes.size(); ++k)
+        node(a.nodes[k], b.nodes[k], k % stride, k / stride);
     for (size_t s = 0; s < a.slits.size(); ++s) {
         const gm::Slit &x = a.slits[s], &y = b.slits[s];
         REQUIRE(x.row == y.row);
         REQUIRE(x.i0 == y.i0);
         REQUIRE(x.i1 == y.i1);
         REQUIRE(x.below.size() == y.below.size());
-        for (size_t k = 0; k < x.below.size(); ++k) node(x.below[k], y.below[k]);
+        for (size_t k = 0; k < x.below.size(); ++k)
+            node(x.below[k], y.below[k], static_cast<size_t>(x.i0) + 1 + k,
+                 static_cast<size_t>(x.row));
         for (auto ends : {std::make_pair(&x.left, &y.left), std::make_pair(&x.right, &y.right)}) {
+            const double du = intervalU[static_cast<size_t>(ends.first == &x.left ? x.i0 : x.i1)];
             track(d.posTangent, ends.first->posU.x, ends.second->posU.x, du);
             track(d.posTangent, ends.first->posU.y, ends.second->posU.y, du);
             for (int c = 0; c < 3 && colorDerivatives; ++c)
@@ -107,6 +123,7 @@ Deviation compactDeviation(const GradientMesh& a, const GradientMesh& b, bool co
     for (size_t k = 0; k < a.tangents.size(); ++k) {
         const gm::CornerTangent &x = a.tangents[k], &y = b.tangents[k];
         REQUIRE((x.i == y.i && x.j == y.j && x.a == y.a && x.b == y.b));
+        const double du = intervalU[static_cast<size_t>(x.i + x.a)];
         track(d.posTangent, x.posU.x, y.posU.x, du);
         track(d.posTangent, x.posU.y, y.posU.y, du);
         for (int c = 0; c < 3 && colorDerivatives; ++c) track(d.colTangent, x.colU[c], y.colU[c], du);
@@ -206,8 +223,159 @@ TEST_CASE("compact mode omits colour derivatives that follow the rule", "[roundt
 TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") {
     // Coordinates far beyond the quantised range: the mesh must come back exactly.
     const Document doc = singleMeshDocument(gmbtest::randomMesh(4));
-    const Document back = gm::decodeGmb(gm::encodeGmb(doc, true), gm::ReadLimits{});
+    const std::string bytes = gm::encodeGmb(doc, true);
+    CHECK(bytes[gmbtest::findSection(bytes, "MESH").payload() + 16] == 0);  // float64
+    CHECK(gmbtest::getLE(bytes, 10, 2) == 0);  // nothing of 1.1 in it: a 1.0 file
+    const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
     REQUIRE(back == doc);
+    // Next to a mesh that can be quantised, each mesh is written its own way.
+    Document both = doc;
+    GradientMesh smooth = gm::makeCurvedMesh(6, 5, 16, 16, 200, 160, 1.0, 8);
+    both.meshes.insert(both.meshes.begin(), smooth);
+    const std::string mixed = gm::encodeGmb(both, true);
+    CHECK(gmbtest::getLE(mixed, 10, 2) == 1);
+    CHECK(mixed[gmbtest::findSection(mixed, "MESH", 0).payload() + 16] == 2);
+    CHECK(mixed[gmbtest::findSection(mixed, "MESH", 1).payload() + 16] == 0);
+    const Document mixedBack = gm::decodeGmb(mixed, gm::ReadLimits{});
+    REQUIRE(mixedBack.meshes[1] == doc.meshes[0]);
+    requireWithinBounds(compactDeviation(smooth, mixedBack.meshes[0], true));
+}
+
+namespace {
+
+// Meshes of many shapes, knot scales and values, with slits, tangent breaks and rule colours.
+std::vector<GradientMesh> compactTestMeshes() {
+    std::vector<GradientMesh> out;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        GradientMesh m =
+            gm::makeCurvedMesh(3 + 7 * seed, 2 + 5 * seed, 8, 8, 300, 200, 0.5 * seed, seed);
+        gmbtest::addFittingNoise(m, 40 + seed);
+        out.push_back(m);
+    }
+    out.push_back(gm::makeCurvedMesh(1, 1, 10, 10, 30, 30, 0.0, 4));    // one patch
+    out.push_back(gm::makeCurvedMesh(12, 1, 10, 10, 300, 20, 1.0, 5));  // one row
+    out.push_back(gm::makeCurvedMesh(1, 9, 10, 10, 20, 300, 1.0, 6));   // one column
+    {
+        // Knots on very different scales, and uneven: derivatives in pixels per 1/1000 unit
+        // next to pixels per 1000 units.
+        GradientMesh m = gm::makeCurvedMesh(10, 8, 8, 8, 400, 300, 1.0, 7);
+        gmbtest::addFittingNoise(m, 47);
+        for (size_t i = 0; i < m.u.size(); ++i) m.u[i] = 1e-3 * (i * i + i);
+        for (size_t j = 0; j < m.v.size(); ++j) m.v[j] = 1e3 * j + (j % 2 ? 400 : 0);
+        for (gm::Node& n : m.nodes) {
+            n.posU = n.posU * 1e3;
+            n.colU = n.colU * 1e3;
+            n.posV = n.posV * 1e-3;
+            n.colV = n.colV * 1e-3;
+        }
+        out.push_back(m);
+    }
+    {
+        // Colours far outside 0-1 and large, jumpy derivatives.
+        GradientMesh m = gm::makeCurvedMesh(9, 9, -500, -300, 2000, 1500, 1.0, 8);
+        std::mt19937_64 rng(9);
+        std::uniform_real_distribution<double> u(-1, 1);
+        for (gm::Node& n : m.nodes) {
+            for (int c = 0; c < 3; ++c) {
+                n.col[c] = 40 * u(rng);
+                n.colU[c] = 300 * u(rng);
+                n.colV[c] = 300 * u(rng);
+            }
+            n.posU = {5000 * u(rng), 5000 * u(rng)};
+        }
+        out.push_back(m);
+    }
+    GradientMesh holed = slitMeshWithBreaks();
+    gmbtest::addFittingNoise(holed, 48);
+    out.push_back(holed);
+    for (GradientMesh& piece : gm::splitIntoLegacyMeshes(gm::makeHoledMesh(2, 10, 10, 300, 200, 9)))
+        out.push_back(piece);  // hole-free pieces with corner tangent breaks
+    GradientMesh rule = gm::makeCurvedMesh(14, 11, 10, 10, 300, 240, 1.0, 10);
+    gmbtest::addFittingNoise(rule, 49);
+    gm::applyColorRule(rule);
+    out.push_back(rule);
+    GradientMesh holedRule = gm::makeHoledMesh(2, 10, 10, 300, 200, 11);
+    gm::applyColorRule(holedRule);
+    out.push_back(holedRule);
+    return out;
+}
+
+// The quantised knots of a mesh read from encoding 2, from its exponent: decoded knots are
+// q · 2^e exactly.
+std::vector<int64_t> knotIntegers(const std::vector<double>& k, int e) {
+    std::vector<int64_t> out;
+    for (double x : k) {
+        const double q = std::ldexp(x, -e);
+        REQUIRE(q == std::round(q));
+        out.push_back(static_cast<int64_t>(q));
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("compact round trip stays within the bounds on meshes of many shapes and scales",
+          "[roundtrip]") {
+    const std::vector<GradientMesh> meshes = compactTestMeshes();
+    Document doc = singleMeshDocument(meshes[0], 800, 600);
+    doc.meshes = meshes;
+    const std::string bytes = gm::encodeGmb(doc, true);
+    CHECK(gmbtest::getLE(bytes, 10, 2) == 1);  // version 1.1
+    const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "compact.gmb");
+    REQUIRE(back.meshes.size() == doc.meshes.size());
+    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+        INFO("mesh " << k);
+        const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", static_cast<int>(k));
+        CHECK(bytes[mesh.payload() + 16] == 2);  // every one range-coded
+        const bool rule = bytes[mesh.payload() + 17] & 1;
+        CHECK(rule == gm::followsColorRule(doc.meshes[k]));
+        requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], !rule));
+    }
+    // Stable: the decoded document is on the grid, and comes back bit for bit.
+    REQUIRE(gm::decodeGmb(gm::encodeGmb(back, true), gm::ReadLimits{}) == back);
+    // Lossless files are still 1.0 files.
+    CHECK(gmbtest::getLE(gm::encodeGmb(doc, false), 10, 2) == 0);
+}
+
+TEST_CASE("range-coded nodes decode by the written specification alone", "[roundtrip]") {
+    // An independent decoder written from the spec (gmb_spec_coded.h) reads every NODE the
+    // writer produces to the same numbers as the reader.
+    const std::vector<GradientMesh> meshes = compactTestMeshes();
+    Document doc = singleMeshDocument(meshes[0], 800, 600);
+    doc.meshes = meshes;
+    const std::string bytes = gm::encodeGmb(doc, true);
+    const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+        INFO("mesh " << k);
+        const int nth = static_cast<int>(k);
+        const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", nth);
+        const gmbtest::SectionInfo node = gmbtest::findSection(bytes, "NODE", nth);
+        REQUIRE(node.codec == 0);
+        gmbtest::SpecMeshInfo info;
+        info.C = static_cast<int>(gmbtest::getLE(bytes, mesh.payload(), 4));
+        info.R = static_cast<int>(gmbtest::getLE(bytes, mesh.payload() + 4, 4));
+        info.F = (bytes[mesh.payload() + 17] & 1) ? 9 : 15;
+        for (int f = 0; f < 7; ++f)
+            info.e[f] = static_cast<int16_t>(gmbtest::getLE(bytes, mesh.payload() + 18 + 2 * f, 2));
+        const GradientMesh& m = back.meshes[k];
+        info.ku = knotIntegers(m.u, info.e[0]);
+        info.kv = knotIntegers(m.v, info.e[0]);
+        const auto q = gmbtest::specDecodeCodedNodes(
+            bytes.substr(node.payload(), static_cast<size_t>(node.stored)), info);
+        bool same = true;
+        for (int j = 0; j <= info.R; ++j)
+            for (int i = 0; i <= info.C; ++i)
+                for (int c = 0; c < info.F; ++c) {
+                    const size_t at = static_cast<size_t>(j) * (info.C + 1) + i;
+                    double x = gmbtest::specCodedValue(info, c, q[c][at], i, j);
+                    const gm::Node& n = m.node(i, j);
+                    const double y[15] = {n.pos.x,  n.pos.y,  n.posU.x, n.posU.y, n.posV.x,
+                                          n.posV.y, n.col.r,  n.col.g,  n.col.b,  n.colU.r,
+                                          n.colU.g, n.colU.b, n.colV.r, n.colV.g, n.colV.b};
+                    if (x != y[c]) same = false;
+                }
+        CHECK(same);
+    }
 }
 
 TEST_CASE("the format object writes atomically and reads back", "[roundtrip]") {

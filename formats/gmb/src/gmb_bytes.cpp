@@ -48,7 +48,9 @@ void ByteReader::need(uint64_t n, const std::string& what) const {
 }
 
 uint64_t ByteReader::take(int n) {
-    need(static_cast<uint64_t>(n), "a " + std::to_string(8 * n) + "-bit field");
+    // The message is built only on failure: take() runs once per byte of a range-coded stream.
+    if (static_cast<size_t>(n) > remaining())
+        need(static_cast<uint64_t>(n), "a " + std::to_string(8 * n) + "-bit field");
     uint64_t x = 0;
     for (int k = 0; k < n; ++k)
         x |= static_cast<uint64_t>(static_cast<unsigned char>(data_[pos_ + k])) << (8 * k);
@@ -66,7 +68,7 @@ double ByteReader::f64() {
 uint64_t ByteReader::varint() {
     uint64_t x = 0;
     for (int k = 0; k < 10; ++k) {
-        need(1, "a varint");
+        if (remaining() == 0) need(1, "a varint");
         const auto byte = static_cast<unsigned char>(data_[pos_++]);
         // The tenth byte holds bit 63 only; anything more does not fit in 64 bits.
         if (k == 9 && byte > 1) fail("varint overflows 64 bits");

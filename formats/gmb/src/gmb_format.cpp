@@ -1,22 +1,27 @@
-// .gmb — the native binary format of gradmesh, version 1.0. This comment is the specification.
+// .gmb — the native binary format of gradmesh, version 1.1. This comment is the specification.
 //
 // Conventions. Integers are little-endian and fixed-width unless called varint. f64 is an
 // IEEE 754 binary64 stored as its 8 bytes, little-endian. varint: unsigned LEB128, at most 10
 // bytes. svarint: a varint holding the zigzag code (n << 1) ^ (n >> 63) of a signed 64-bit n.
+// Arithmetic on quantised values is on exact integers unless said otherwise; floor is towards
+// minus infinity.
 //
 // File = header, sections, and nothing after the END section.
 //
 // Header, 12 bytes
 //    0   8  magic 89 47 4D 42 0D 0A 1A 0A ("\x89GMB\r\n\x1a\n")
 //    8   2  major version, 1. A reader refuses a major it does not know.
-//   10   2  minor version, 0. A newer minor may only add optional sections and append fields to
-//           the DOCU and MESH payloads; a reader of an older minor skips both.
+//   10   2  minor version: 1 if some mesh uses encoding 2, else 0 (a writer marks the lowest
+//           version that holds the file, so lossless files remain 1.0 files). A newer minor may
+//           add optional sections, append fields to the DOCU and MESH payloads (a reader of an
+//           older minor skips both) and add mesh encodings (an older reader refuses a mesh in
+//           an encoding it does not know: 1.0 readers refuse encoding 2).
 //
 // Section, 28 + S bytes
 //    0   4  tag, four ASCII characters
 //    4   1  flags: bit 0 = optional (a reader that does not know the tag skips the section;
-//           a required section it does not know is an error). Other bits are 0 in 1.0 and
-//           ignored by a 1.0 reader.
+//           a required section it does not know is an error). Other bits are 0 in 1.x and
+//           ignored by a 1.x reader.
 //    5   1  codec of the payload: 0 stored, 1 deflate (zlib stream, RFC 1950), 2 zstd frame(s)
 //    6   2  reserved, 0
 //    8   8  S: payload bytes stored in the file
@@ -31,14 +36,17 @@
 //     SLIT                if and only if the mesh has slits
 //     TANG                if and only if the mesh has corner tangent breaks
 //   END                   once, last, empty payload
-// Every section defined by 1.0 is required (flags bit 0 clear).
+// Every section defined by 1.x is required (flags bit 0 clear).
 //
 // DOCU payload, 12 bytes: u32 canvas width, u32 canvas height (pixels), u32 mesh count.
 // MESH payload, 32 bytes: u32 C (patch columns), u32 R (patch rows), u32 slit count,
-//   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised = compact),
-//   u8 flags (bit 0: colour derivatives omitted; the reader recomputes them with applyColorRule
-//   from the decoded mesh; other bits 0, ignored by a 1.0 reader), 7 × i16 exponents e for the quantised fields knot, pos, posU, posV,
-//   col, colU, colV (0 for float64). A quantised value q of field f stands for q · 2^e_f.
+//   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised (1.0),
+//   2 quantised and range-coded (since 1.1); the writer's compact mode writes 2), u8 flags
+//   (bit 0: colour derivatives omitted; the reader recomputes them with applyColorRule from
+//   the decoded mesh; other bits 0, ignored by a 1.x reader), 7 × i16 exponents e for the
+//   quantised fields knot, pos, posU, posV, col, colU, colV (0 for float64), each within
+//   ±960. Encodings 1 and 2: a quantised knot, position or colour q of field f stands for
+//   q · 2^e_f; derivatives differ (below).
 //
 // A node record has 15 components: pos.x pos.y posU.x posU.y posV.x posV.y col.r col.g col.b
 // colU.r colU.g colU.b colV.r colV.g colV.b; the last six are absent when colour derivatives are
@@ -53,7 +61,8 @@
 //   TANG  per break: u32 i, u32 j (the patch), u8 a, u8 b (its corner), posU.x posU.y
 //         [colU.r colU.g colU.b], the colU absent when colour derivatives are omitted
 //
-// Quantised encoding (every value q an svarint unless said otherwise; |q| <= 2^53)
+// Quantised encoding, 1 (every value q an svarint unless said otherwise; |q| <= 2^53).
+// A derivative q of field f stands for q · 2^e_f.
 //   KNOT  q(u_0), then C varints q(u_i) - q(u_{i-1}), each >= 1; then the same for v
 //   NODE  one plane per node-record component, in record order; a plane holds (C+1)(R+1)
 //         residuals q(i,j) - p(i,j), row-major, with the parallelogram prediction
@@ -64,9 +73,68 @@
 //         the same column)
 //   TANG  per break: varints i, j, u8 (a | b << 1), then posU.x posU.y [colU.rgb]
 //
+// Quantised and range-coded encoding, 2. KNOT, SLIT and TANG are laid out as in encoding 1;
+// derivatives are scaled per node and NODE is predicted and range-coded.
+//   Spans. With k_0 .. k_C the quantised u knots (the integers of KNOT), the span of column i
+//   is D_i = max(k_i - k_{i-1}, k_{i+1} - k_i) + 2 over the differences that exist (in knot
+//   quanta; the 2 covers the knots' own rounding); the span of row j likewise from the v knots.
+//   A quantised derivative q of field f (posU, posV, colU or colV) in column i (u fields) or
+//   row j (v fields) stands for ldexp(q, e_f - e_knot) / D, one binary64 division rounded to
+//   nearest even (e_f is the exponent of derivative × span). The column and row are the
+//   node's for node records in NODE and SLIT (a below copy is in the column and row of the
+//   node above it), i0 or i1 for the left or right slit-end tangent, i + a for a tangent
+//   break. Readers require |e_f - e_knot| <= 960 and |e_f - e_v| <= 16 for the four
+//   derivative fields, where e_v is e_pos for posU and posV and e_col for colU and colV.
+//   NODE  plane weights, then a range-coded stream that ends with the payload.
+//     Planes, in coding order, with their node-record component numbers:
+//       pos.x 0, pos.y 1, col.g 7, col.r 6, col.b 8, posU.x 2, posU.y 3, posV.x 4, posV.y 5,
+//       colU.g 10, colU.r 9, colU.b 11, colV.g 13, colV.r 12, colV.b 14
+//     (the last six absent when colour derivatives are omitted). The first five are value
+//     planes; the others are derivative planes, along u (posU, colU) or v (posV, colV), of the
+//     value plane of the same quantity and coordinate (posU.y and posV.y: pos.y; colU.r: col.r).
+//     Siblings: pos.x of pos.y; col.g of col.r and col.b; posU.x of posU.y; posV.x of posV.y;
+//     colU.g of colU.r and colU.b; colV.g of colV.r and colV.b. Other planes have none.
+//     Weights: per plane in coding order, svarints a, b, s for a value plane, a, s for a
+//     derivative plane; each within ±32768 (units of 1/256).
+//     A plane's q(i,j) are coded row-major as residuals r(i,j) = q(i,j) - p(i,j), where
+//     S = r(i,j) of the sibling plane (0 without one), and rnd(n) = floor((n + 128) / 256):
+//       value plane, i > 0 and j > 0, with L = q(i-1,j), U = q(i,j-1), G = q(i-1,j-1):
+//         p = L + rnd(a(U - L) + b(G - L) + sS)
+//       value plane, row 0: p = q(i-1,0) + rnd(sS); column 0: p = q(0,j-1) + rnd(sS); at
+//         (0,0): p = rnd(sS)
+//       derivative plane along u, of field f and of value plane V of field h: with
+//         i0 = max(i-1, 0), i1 = min(i+1, C), t = e_h - e_f,
+//         M = (V(i1,j) - V(i0,j)) · D_i · 2^max(t,0),  W = (k_i1 - k_i0) · 2^max(-t,0),
+//         c = floor((2M + W) / (2W)) clamped to ±2^62, and p = rnd(a·c + sS)
+//       derivative plane along v: the same along column i with rows j0, j1, the v knots, D_j
+//     then p is clamped to ±2^62 (the terms stay within 128 bits). Every q must satisfy
+//     |q| <= 2^53, and every residual is then within 64 bits.
+//     Residuals. Each plane has its own models (below), fresh in every NODE section:
+//     zero[16], sign[16], length[16][24], top[64]. For r(i,j), with |x| capped at 2^40 and
+//     terms for residuals outside the grid 0, the context is x = min(bit length of z, 15) of
+//       z = 2|r(i-1,j)| + 2|r(i,j-1)| + |r(i-1,j-1)| + |r(i+1,j-1)| + |r(i-2,j)| + 3|S|
+//     (the bit length of 0 is 0). Then, as binary decisions: r != 0 with zero[x]; if so, r < 0
+//     with sign[x]; with n = (bit length of |r|) - 1: n decisions 1 and then a decision 0
+//     (left out when n = 63), the k-th of them (k = 0, 1, ...) with length[x][min(k, 23)];
+//     if n >= 1, the bit of |r| below its leading 1 with top[n], then its n - 1 lower bits,
+//     most significant first, as direct bits.
+//     Models. A model holds two 16-bit estimates A and B, both 32768 at first, and a count c,
+//     0 at first. It codes 1 with probability P = clamp(floor((A + B) / 2), 32, 65504) / 2^16.
+//     After each decision x: if c < 30, w = 1 + floor(c / 2) and c increases by 1, else
+//     w = 16; with a = min(4, w) and b = min(7, w): if x = 1, A += floor((65536 - A) / 2^a)
+//     and B += floor((65536 - B) / 2^b), else A -= floor(A / 2^a) and B -= floor(B / 2^b).
+//     Range coding. The decoder keeps unsigned 32-bit R and V: R = 2^32 - 1 and V = the
+//     stream's bytes 1 .. 4 read big-endian (byte 0 must be 0). A decision with probability P
+//     (of a 1, P in units of 2^-16): T = floor(R / 2^16) · P; if V < T it is 1 and R = T, else
+//     it is 0, V -= T and R -= T. A direct bit: R = floor(R / 2); if V >= R it is 1 and
+//     V -= R, else 0. After either, while R < 2^24: R = R · 2^8, V = (V · 2^8 + the next
+//     byte) mod 2^32. The stream must hold exactly the bytes the decoder reads. (The encoder
+//     is LZMA's: a 33-bit low end with carry propagation and five flushing bytes.)
+//
 // Reading limits. Every count is checked against ReadLimits and against the bytes that remain
 // before anything is allocated. A section's declared N must fit its counts, and the sum of the
-// N of all sections may not exceed ReadLimits::maxFileBytes: a decoded document is never larger
+// N of all sections may not exceed ReadLimits::maxFileBytes, a range-coded NODE counting
+// max(N, values) (a value decodes from a fraction of a bit): a decoded document is never larger
 // than the largest file the caller accepts, whatever the compression ratio.
 #include <algorithm>
 

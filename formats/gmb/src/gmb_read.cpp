@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "formats/gmb.h"
+#include "gmb_node_planes.h"
 #include "gmb_pvt.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
@@ -77,7 +78,7 @@ private:
     }
     void readFileHeader();
     Section next(const char* expected);
-    void open(const Section& s, uint64_t maxRaw, Payload& p);
+    void open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decodedAtLeast = 0);
     void finish(const Payload& p, const Section& s) const;
 
     MeshHeader readMeshHeader(ByteReader& r, const Section& s);
@@ -87,6 +88,10 @@ private:
     void readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m);
 
     double quantized(ByteReader& r, int64_t q, int exponent) const;
+    // Component c (node-record order) of a node in the given column and row, from its q.
+    double component(ByteReader& r, const MeshHeader& h, int c, int64_t q, size_t column,
+                     size_t row) const;
+    double derivativeU(ByteReader& r, const MeshHeader& h, Field f, int64_t q, size_t column) const;
     void readNodeRecord(ByteReader& r, const MeshHeader& h, Node& n, size_t above);
 
     const std::string& bytes_;
@@ -96,7 +101,9 @@ private:
     uint16_t minor_ = 0;
     uint64_t decodedBytes_ = 0;  // sum of declared uncompressed sizes so far
     std::string meshName_;       // "mesh 3", for section names in messages
-    std::vector<int64_t> planes_;  // quantised NODE values of the current mesh, per component
+    // The current mesh when quantised: its knots, spans (encoding 2) and NODE values, per
+    // component (`grid_.planes`).
+    CodedGrid grid_;
 };
 
 void Decoder::readFileHeader() {
@@ -181,7 +188,9 @@ Section Decoder::next(const char* expected) {
 
 // Makes the payload of a known section readable, refusing declared sizes beyond what its counts
 // allow (`maxRaw`) or beyond the document's budget before inflating anything.
-void Decoder::open(const Section& s, uint64_t maxRaw, Payload& p) {
+// `decodedAtLeast` is charged to the budget when more than the declared size: what a
+// range-coded payload decodes to, however few bytes it takes.
+void Decoder::open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decodedAtLeast) {
     const std::string name = meshName_.empty() || s.tag == "DOCU" || s.tag == "END "
                                  ? s.tag
                                  : s.tag + " (" + meshName_ + ")";
@@ -189,7 +198,7 @@ void Decoder::open(const Section& s, uint64_t maxRaw, Payload& p) {
         fail("section " + name + " declares " + std::to_string(s.raw) +
                  " uncompressed bytes; its counts allow at most " + std::to_string(maxRaw),
              s.start);
-    decodedBytes_ = satAdd(decodedBytes_, s.raw);
+    decodedBytes_ = satAdd(decodedBytes_, std::max(s.raw, decodedAtLeast));
     if (decodedBytes_ > limits_.maxFileBytes)
         fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
                  " bytes (section " + name + ")",
@@ -222,6 +231,25 @@ void Decoder::finish(const Payload& p, const Section& s) const {
 double Decoder::quantized(ByteReader& r, int64_t q, int exponent) const {
     if (q > kMaxQuantized || q < -kMaxQuantized) r.fail("quantised value out of range");
     return std::ldexp(static_cast<double>(q), exponent);
+}
+
+double Decoder::derivativeU(ByteReader& r, const MeshHeader& h, Field f, int64_t q,
+                            size_t column) const {
+    if (h.encoding == Encoding::Quantized) return quantized(r, q, h.exponent[f]);
+    if (q > kMaxQuantized || q < -kMaxQuantized) r.fail("quantised value out of range");
+    return codedDerivative(q, h.exponent[f] - h.exponent[kKnot], grid_.spanU[column]);
+}
+
+double Decoder::component(ByteReader& r, const MeshHeader& h, int c, int64_t q, size_t column,
+                          size_t row) const {
+    const Field f = fieldOfComponent(c);
+    if (h.encoding == Encoding::Coded && f != kPos && f != kCol) {
+        if (q > kMaxQuantized || q < -kMaxQuantized) r.fail("quantised value out of range");
+        const bool alongU = f == kPosU || f == kColU;
+        return codedDerivative(q, h.exponent[f] - h.exponent[kKnot],
+                               alongU ? grid_.spanU[column] : grid_.spanV[row]);
+    }
+    return quantized(r, q, h.exponent[f]);
 }
 
 MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
@@ -260,13 +288,21 @@ MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
         fail(at + std::to_string(h.tangents) + " tangent breaks for only " +
                  std::to_string(h.columns * h.rows) + " patches",
              s.start);
-    if (encoding > static_cast<uint8_t>(Encoding::Quantized))
+    if (encoding > static_cast<uint8_t>(Encoding::Coded))
         fail(at + "unknown mesh encoding " + std::to_string(encoding), s.start);
     h.encoding = static_cast<Encoding>(encoding);
+    if (h.encoding == Encoding::Coded && minor_ < 1)
+        fail(at + "mesh encoding 2 needs format version 1.1 (the file says 1." +
+                 std::to_string(minor_) + ")",
+             s.start);
     h.byRule = flags & kMeshColorByRule;
     for (int e : h.exponent)
         if (e < -kMaxExponent || e > kMaxExponent)
             fail(at + "quantisation exponent " + std::to_string(e) + " out of range", s.start);
+    if (h.encoding == Encoding::Coded) {
+        const std::string problem = codedExponentProblem(h.exponent);
+        if (!problem.empty()) fail(at + problem, s.start);
+    }
     // A newer minor may append fields; version 1.0 files must be exact.
     if (minor_ == 0 && r.remaining() != 0)
         r.fail(std::to_string(r.remaining()) + " unexpected bytes at the end of the MESH payload");
@@ -287,16 +323,22 @@ void Decoder::readKnots(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
     r.need(count, "the knots");
     for (std::vector<double>* k : {&m.u, &m.v}) {
         k->resize(static_cast<size_t>((k == &m.u ? h.columns : h.rows) + 1));
+        std::vector<int64_t>& knotQ = k == &m.u ? grid_.knotU : grid_.knotV;
+        knotQ.resize(k->size());
         int64_t q = r.svarint();
         (*k)[0] = quantized(r, q, h.exponent[kKnot]);
+        knotQ[0] = q;
         for (size_t i = 1; i < k->size(); ++i) {
             const uint64_t step = r.varint();
             if (step == 0) r.fail("knots not strictly increasing");
             if (step > uint64_t(2) * kMaxQuantized) r.fail("knot interval out of range");
             q += static_cast<int64_t>(step);  // both within 2^54: no overflow
             (*k)[i] = quantized(r, q, h.exponent[kKnot]);
+            knotQ[i] = q;
         }
     }
+    grid_.spanU = localSpans(grid_.knotU);
+    grid_.spanV = localSpans(grid_.knotV);
 }
 
 void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
@@ -310,11 +352,28 @@ void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
             for (int c = 0; c < F; ++c) nodeComponent(node, c) = r.f64();
         return;
     }
+    grid_.columns = static_cast<int>(h.columns);
+    grid_.rows = static_cast<int>(h.rows);
+    grid_.components = F;
+    std::copy(std::begin(h.exponent), std::end(h.exponent), grid_.exponent);
+    if (h.encoding == Encoding::Coded) {
+        // Range-coded: no bytes per value to count on (the caller charged the values to the
+        // budget). The weights come first: at least 2 bytes per plane, then 5 of the stream.
+        r.need(satAdd(satMul(2, F), 5), "the nodes");
+        decodeCodedNodes(r, grid_);
+        m.nodes.resize(static_cast<size_t>(n));
+        for (int c = 0; c < F; ++c) {
+            const int64_t* q = &grid_.planes[c * static_cast<size_t>(n)];
+            for (size_t k = 0; k < n; ++k)
+                nodeComponent(m.nodes[k], c) = component(r, h, c, q[k], k % C1, k / C1);
+        }
+        return;
+    }
     r.need(satMul(n, F), "the nodes");  // at least one byte per value
     m.nodes.resize(static_cast<size_t>(n));
-    planes_.assign(static_cast<size_t>(n) * F, 0);
+    grid_.planes.assign(static_cast<size_t>(n) * F, 0);
     for (int c = 0; c < F; ++c) {
-        int64_t* q = &planes_[c * static_cast<size_t>(n)];
+        int64_t* q = &grid_.planes[c * static_cast<size_t>(n)];
         const int e = h.exponent[fieldOfComponent(c)];
         for (size_t k = 0; k < n; ++k) {
             const size_t i = k % C1, j = k / C1;
@@ -333,14 +392,16 @@ void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
 // One below-copy node record; `above` indexes the node over the slit in the same column.
 void Decoder::readNodeRecord(ByteReader& r, const MeshHeader& h, Node& n, size_t above) {
     const int F = h.components();
-    const size_t count = planes_.size() / static_cast<size_t>(F);
+    const size_t count = grid_.planes.size() / static_cast<size_t>(F);
+    const size_t C1 = static_cast<size_t>(h.columns + 1);
     for (int c = 0; c < F; ++c) {
         if (h.encoding == Encoding::Float64) {
             nodeComponent(n, c) = r.f64();
         } else {
-            const int64_t q = static_cast<int64_t>(static_cast<uint64_t>(planes_[c * count + above]) +
-                                                   static_cast<uint64_t>(r.svarint()));
-            nodeComponent(n, c) = quantized(r, q, h.exponent[fieldOfComponent(c)]);
+            const int64_t q =
+                static_cast<int64_t>(static_cast<uint64_t>(grid_.planes[c * count + above]) +
+                                     static_cast<uint64_t>(r.svarint()));
+            nodeComponent(n, c) = component(r, h, c, q, above % C1, above / C1);
         }
     }
 }
@@ -365,11 +426,12 @@ void Decoder::readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
         s.i0 = static_cast<int>(i0);
         s.i1 = static_cast<int>(i1);
         for (SlitEnd* end : {&s.left, &s.right}) {
+            const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
             for (double* x : {&end->posU.x, &end->posU.y})
-                *x = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kPosU]);
+                *x = f64 ? r.f64() : derivativeU(r, h, kPosU, r.svarint(), column);
             if (!h.byRule)
                 for (int c = 0; c < 3; ++c)
-                    end->colU[c] = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kColU]);
+                    end->colU[c] = f64 ? r.f64() : derivativeU(r, h, kColU, r.svarint(), column);
         }
         const uint64_t below = i1 - i0 - 1;
         r.need(satMul(below, minNode), "the split nodes of slit " + std::to_string(k));
@@ -404,10 +466,11 @@ void Decoder::readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m) 
         t.j = static_cast<int>(j);
         t.a = static_cast<int>(a);
         t.b = static_cast<int>(b);
+        const size_t column = static_cast<size_t>(i + a);
         for (double* x : {&t.posU.x, &t.posU.y})
-            *x = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kPosU]);
+            *x = f64 ? r.f64() : derivativeU(r, h, kPosU, r.svarint(), column);
         for (int c = 0; c < 3 && !h.byRule; ++c)
-            t.colU[c] = f64 ? r.f64() : quantized(r, r.svarint(), h.exponent[kColU]);
+            t.colU[c] = f64 ? r.f64() : derivativeU(r, h, kColU, r.svarint(), column);
     }
 }
 
@@ -467,7 +530,15 @@ Document Decoder::run() {
         {
             const Section s = next("NODE");
             Payload p;
-            open(s, satMul(satMul(perValue, F), h.nodes()), p);
+            if (h.encoding == Encoding::Coded) {
+                // Weights (3 varints per plane), then at most 11 bits per binary decision of a
+                // 64-bit residual (gmb_format.cpp), under 128 bytes per value; decoded, each
+                // value counts as at least a byte, as in encoding 1.
+                const uint64_t values = satMul(F, h.nodes());
+                open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p, values);
+            } else {
+                open(s, satMul(satMul(perValue, F), h.nodes()), p);
+            }
             readNodes(p.reader, h, m);
             finish(p, s);
         }
@@ -488,7 +559,7 @@ Document Decoder::run() {
             readTangents(p.reader, h, m);
             finish(p, s);
         }
-        planes_.clear();
+        grid_ = CodedGrid();
         // Structure first (rows, slit overlaps, node counts): the colour rule may rely on it.
         const std::string problem = validateMesh(m);
         if (!problem.empty()) throw Error(meshName_ + ": " + problem, file_);

@@ -1,9 +1,11 @@
 // The .gmb writer (layout: gmb_format.cpp).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
 #include "formats/gmb.h"
+#include "gmb_node_planes.h"
 #include "gmb_pvt.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
@@ -22,10 +24,10 @@ constexpr Codec kCompactCodec = Codec::Zstd;
 
 class SectionSink {
 public:
-    void header() {
+    void header(uint16_t minor) {
         for (char c : kMagic) w_.u8(static_cast<uint8_t>(c));
         w_.u16(kMajor);
-        w_.u16(kMinor);
+        w_.u16(minor);
     }
 
     void add(const char (&tag)[5], const std::string& payload, bool tryCompress) {
@@ -52,6 +54,7 @@ private:
 
 struct MeshPayloads {
     std::string mesh, knot, node, slit, tang;
+    bool coded = false;  // encoding 2
 };
 
 std::string meshHeader(const GradientMesh& m, Encoding encoding, uint8_t flags,
@@ -120,76 +123,127 @@ int binaryExponent(double x) {
     return p;
 }
 
-// The exponents that meet GmbCompactBounds for this mesh (gmb.h explains the bounds).
+// The exponents that meet GmbCompactBounds (gmb.h explains the bounds). Derivatives are stored
+// as tangents, derivative × span of their node (gmb_format.cpp, encoding 2), so their grid is
+// in pixels and 0–1 colour units whatever the knot scale.
 void chooseExponents(const GradientMesh& m, int (&e)[kFieldCount]) {
-    double minStep = std::numeric_limits<double>::infinity(), maxDu = 0, maxDv = 0;
-    for (size_t i = 1; i < m.u.size(); ++i) {
-        minStep = std::min(minStep, m.u[i] - m.u[i - 1]);
-        maxDu = std::max(maxDu, m.u[i] - m.u[i - 1]);
-    }
-    for (size_t j = 1; j < m.v.size(); ++j) {
-        minStep = std::min(minStep, m.v[j] - m.v[j - 1]);
-        maxDv = std::max(maxDv, m.v[j] - m.v[j - 1]);
-    }
+    double minStep = std::numeric_limits<double>::infinity();
+    for (size_t i = 1; i < m.u.size(); ++i) minStep = std::min(minStep, m.u[i] - m.u[i - 1]);
+    for (size_t j = 1; j < m.v.size(); ++j) minStep = std::min(minStep, m.v[j] - m.v[j - 1]);
     // 2^(p-1) <= smallest interval, so the knot grid is at most 2^-21 of it.
     e[kKnot] = binaryExponent(minStep) - 22;
-    e[kPos] = -5;  // 1/32 px grid: error <= 1/64 px
-    e[kCol] = -8;  // 1/256 grid: error <= 1/512 < 0.5/255
-    // Largest interval < 2^p: a derivative step of 2^(-5-p) errs by < 1/64 px once scaled by Δu.
-    const int pu = binaryExponent(maxDu), pv = binaryExponent(maxDv);
-    e[kPosU] = -5 - pu;
-    e[kPosV] = -5 - pv;
-    e[kColU] = -8 - pu;
-    e[kColV] = -8 - pv;
+    e[kPos] = -5;   // 1/32 px grid: error <= 1/64 px
+    e[kCol] = -8;   // 1/256 grid: error <= 1/512 < 0.5/255
+    e[kPosU] = -3;  // tangents on a 1/8 px grid: error <= 1/16 px
+    e[kPosV] = -3;
+    e[kColU] = -7;  // colour tangents on a 1/128 grid: error <= 1/256
+    e[kColV] = -7;
 }
 
-// False when some value does not fit the quantised grid (enormous coordinates, degenerate knot
-// spacing); the caller then writes the mesh as float64, which is always within the bounds.
-bool encodeQuantized(const GradientMesh& m, bool byRule, MeshPayloads& p) {
+// The larger knot interval next to each knot (what a node's derivative is scaled by in the
+// patches that use it), in the mesh's own units.
+std::vector<double> neighbouringIntervals(const std::vector<double>& k) {
+    std::vector<double> out(k.size(), 0.0);
+    for (size_t i = 0; i < k.size(); ++i) {
+        if (i > 0) out[i] = std::max(out[i], k[i] - k[i - 1]);
+        if (i + 1 < k.size()) out[i] = std::max(out[i], k[i + 1] - k[i]);
+    }
+    return out;
+}
+
+// Quantises the values of one mesh for encoding 2 and checks every one against its bound.
+class CodedQuantizer {
+public:
+    CodedQuantizer(const GradientMesh& m, const int (&e)[kFieldCount], const CodedGrid& g)
+        : e_(e),
+          g_(g),
+          intervalU_(neighbouringIntervals(m.u)),
+          intervalV_(neighbouringIntervals(m.v)) {}
+
+    // Component c (node-record order) of a node in column i, row j.
+    bool component(const Node& n, int c, int i, int j, int64_t& q) const {
+        const double x = nodeComponent(n, c);
+        switch (fieldOfComponent(c)) {
+            case kPosU:
+                return derivative(x, kPosU, g_.spanU[i], intervalU_[i], q);
+            case kPosV:
+                return derivative(x, kPosV, g_.spanV[j], intervalV_[j], q);
+            case kColU:
+                return derivative(x, kColU, g_.spanU[i], intervalU_[i], q);
+            case kColV:
+                return derivative(x, kColV, g_.spanV[j], intervalV_[j], q);
+            default:
+                return quantize(x, e_[fieldOfComponent(c)], q);
+        }
+    }
+    // A u-derivative on its own (slit end, tangent break) at column i.
+    bool derivativeU(double x, Field f, int i, int64_t& q) const {
+        return derivative(x, f, g_.spanU[i], intervalU_[i], q);
+    }
+
+private:
+    // Rounds x · span to the tangent grid; false if that does not fit, or (a safety net: the
+    // +2 of the span leaves room for the knots' own rounding) if the decoded value misses the
+    // stated bound.
+    bool derivative(double x, Field f, uint64_t span, double interval, int64_t& q) const {
+        const double y = std::ldexp(x * static_cast<double>(span), e_[kKnot] - e_[f]);
+        if (!(std::fabs(y) <= 4503599627370496.0)) return false;  // 2^52
+        q = static_cast<int64_t>(std::llround(y));
+        const double bound = (f == kPosU || f == kPosV) ? GmbCompactBounds::positionTangent
+                                                        : GmbCompactBounds::colorTangent;
+        const double back = codedDerivative(q, e_[f] - e_[kKnot], span);
+        return std::fabs(x - back) * interval <= bound;
+    }
+
+    const int (&e_)[kFieldCount];
+    const CodedGrid& g_;
+    std::vector<double> intervalU_, intervalV_;
+};
+
+// Encoding 2. False when some value does not fit the quantised grid (enormous coordinates,
+// degenerate knot spacing); the caller then writes the mesh as float64, always within bounds.
+bool encodeCoded(const GradientMesh& m, bool byRule, MeshPayloads& p) {
     int e[kFieldCount];
     chooseExponents(m, e);
     for (int x : e)
         if (x < -kMaxExponent || x > kMaxExponent) return false;
-    p.mesh = meshHeader(m, Encoding::Quantized, byRule ? kMeshColorByRule : 0, e);
+    if (!codedExponentProblem(e).empty()) return false;
+    p.mesh = meshHeader(m, Encoding::Coded, byRule ? kMeshColorByRule : 0, e);
     const int F = byRule ? kNodeComponentsByRule : kNodeComponents;
     const int C = m.columns(), R = m.rows();
 
+    CodedGrid g;
+    g.columns = C;
+    g.rows = R;
+    g.components = F;
+    std::copy(std::begin(e), std::end(e), g.exponent);
     ByteWriter knot;
     for (const std::vector<double>* k : {&m.u, &m.v}) {
-        int64_t prev = 0;
+        std::vector<int64_t>& out = k == &m.u ? g.knotU : g.knotV;
         for (size_t i = 0; i < k->size(); ++i) {
             int64_t q;
             if (!quantize((*k)[i], e[kKnot], q)) return false;
             if (i == 0) {
                 knot.svarint(q);
             } else {
-                if (q <= prev) return false;
-                knot.varint(static_cast<uint64_t>(q - prev));
+                if (q <= out.back()) return false;
+                knot.varint(static_cast<uint64_t>(q - out.back()));
             }
-            prev = q;
+            out.push_back(q);
         }
     }
+    g.spanU = localSpans(g.knotU);
+    g.spanV = localSpans(g.knotV);
+    const CodedQuantizer quant(m, e, g);
 
     const size_t n = m.nodes.size();
-    std::vector<int64_t> planes(static_cast<size_t>(F) * n);
-    for (int c = 0; c < F; ++c)
-        for (size_t k = 0; k < n; ++k)
-            if (!quantize(nodeComponent(m.nodes[k], c), e[fieldOfComponent(c)], planes[c * n + k]))
-                return false;
-    ByteWriter node;
-    for (int c = 0; c < F; ++c) {
-        const int64_t* q = &planes[c * n];
-        for (int j = 0; j <= R; ++j) {
-            for (int i = 0; i <= C; ++i) {
-                const size_t k = static_cast<size_t>(j) * (C + 1) + i;
-                int64_t pred = 0;
-                if (i > 0 && j > 0) pred = q[k - 1] + q[k - (C + 1)] - q[k - C - 2];
-                else if (i > 0) pred = q[k - 1];
-                else if (j > 0) pred = q[k - (C + 1)];
-                node.svarint(q[k] - pred);
-            }
+    g.planes.resize(static_cast<size_t>(F) * n);
+    for (int j = 0; j <= R; ++j)
+        for (int i = 0; i <= C; ++i) {
+            const size_t k = static_cast<size_t>(j) * (C + 1) + i;
+            for (int c = 0; c < F; ++c)
+                if (!quant.component(m.nodes[k], c, i, j, g.planes[c * n + k])) return false;
         }
-    }
 
     ByteWriter slit;
     for (const Slit& s : m.slits) {
@@ -197,24 +251,24 @@ bool encodeQuantized(const GradientMesh& m, bool byRule, MeshPayloads& p) {
         slit.varint(static_cast<uint64_t>(s.i0));
         slit.varint(static_cast<uint64_t>(s.i1));
         for (const SlitEnd* end : {&s.left, &s.right}) {
+            const int column = end == &s.left ? s.i0 : s.i1;
             int64_t q;
             for (double x : {end->posU.x, end->posU.y}) {
-                if (!quantize(x, e[kPosU], q)) return false;
+                if (!quant.derivativeU(x, kPosU, column, q)) return false;
                 slit.svarint(q);
             }
-            if (!byRule) {
-                for (int c = 0; c < 3; ++c) {
-                    if (!quantize(end->colU[c], e[kColU], q)) return false;
-                    slit.svarint(q);
-                }
+            for (int c = 0; c < 3 && !byRule; ++c) {
+                if (!quant.derivativeU(end->colU[c], kColU, column, q)) return false;
+                slit.svarint(q);
             }
         }
         for (size_t b = 0; b < s.below.size(); ++b) {
-            const size_t above = static_cast<size_t>(s.row) * (C + 1) + s.i0 + 1 + b;
+            const int column = s.i0 + 1 + static_cast<int>(b);
+            const size_t above = static_cast<size_t>(s.row) * (C + 1) + column;
             for (int c = 0; c < F; ++c) {
                 int64_t q;
-                if (!quantize(nodeComponent(s.below[b], c), e[fieldOfComponent(c)], q)) return false;
-                slit.svarint(q - planes[c * n + above]);
+                if (!quant.component(s.below[b], c, column, s.row, q)) return false;
+                slit.svarint(q - g.planes[c * n + above]);
             }
         }
     }
@@ -226,16 +280,17 @@ bool encodeQuantized(const GradientMesh& m, bool byRule, MeshPayloads& p) {
         tang.u8(static_cast<uint8_t>(t.a | (t.b << 1)));
         int64_t q;
         for (double x : {t.posU.x, t.posU.y}) {
-            if (!quantize(x, e[kPosU], q)) return false;
+            if (!quant.derivativeU(x, kPosU, t.i + t.a, q)) return false;
             tang.svarint(q);
         }
         for (int c = 0; c < 3 && !byRule; ++c) {
-            if (!quantize(t.colU[c], e[kColU], q)) return false;
+            if (!quant.derivativeU(t.colU[c], kColU, t.i + t.a, q)) return false;
             tang.svarint(q);
         }
     }
+    p.coded = true;
     p.knot = std::move(knot.str());
-    p.node = std::move(node.str());
+    p.node = encodeCodedNodes(g);
     p.slit = std::move(slit.str());
     p.tang = std::move(tang.str());
     return true;
@@ -248,20 +303,31 @@ std::string encodeGmb(const Document& doc, bool compact) {
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
     if (doc.meshes.size() > UINT32_MAX) throw Error("too many meshes for a .gmb file");
 
+    std::vector<MeshPayloads> meshes(doc.meshes.size());
+    bool coded = false;
+    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+        const GradientMesh& m = doc.meshes[k];
+        if (!compact || !encodeCoded(m, followsColorRule(m), meshes[k]))
+            meshes[k] = encodeFloat64(m);
+        coded = coded || meshes[k].coded;
+    }
+
     SectionSink out;
-    out.header();
+    // The lowest version that holds the file: lossless files stay readable by 1.0 readers.
+    out.header(coded ? kMinor : 0);
     ByteWriter docu;
     docu.u32(static_cast<uint32_t>(doc.width));
     docu.u32(static_cast<uint32_t>(doc.height));
     docu.u32(static_cast<uint32_t>(doc.meshes.size()));
     out.add("DOCU", docu.str(), false);
 
-    for (const GradientMesh& m : doc.meshes) {
-        MeshPayloads p;
-        if (!compact || !encodeQuantized(m, followsColorRule(m), p)) p = encodeFloat64(m);
+    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+        const GradientMesh& m = doc.meshes[k];
+        const MeshPayloads& p = meshes[k];
         out.add("MESH", p.mesh, false);
         out.add("KNOT", p.knot, compact);
-        out.add("NODE", p.node, compact);
+        // Range-coded nodes do not compress further.
+        out.add("NODE", p.node, compact && !p.coded);
         if (!m.slits.empty()) out.add("SLIT", p.slit, compact);
         if (!m.tangents.empty()) out.add("TANG", p.tang, compact);
     }

@@ -11,32 +11,37 @@ namespace gm {
 std::unique_ptr<MeshFormat> makeGmbFormat();
 
 // In-memory encode/decode (the format object reads/writes files through these). The layout,
-// version 1.0, is specified at the top of formats/gmb/src/gmb_format.cpp.
-// `compact`: quantised + zstd-compressed, within the bounds below; otherwise lossless: every
-// double stored bit for bit. Throws gm::Error (without a file name) for a document that fails
-// validateDocument.
+// version 1.1, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader also reads
+// every 1.0 file, and a lossless file is still a 1.0 file.
+// `compact`: quantised, predicted and range-coded (encoding 2, version 1.1), within the bounds
+// below; otherwise lossless: every double stored bit for bit. Throws gm::Error (without a file
+// name) for a document that fails validateDocument.
 std::string encodeGmb(const Document& doc, bool compact);
 // Throws gm::Error naming `fileName` and the byte offset on any malformed input; checks every
 // count against the bytes that remain and against `limits` before allocating. The decoded
 // (uncompressed) data may not exceed limits.maxFileBytes either, so a small compressed file
-// cannot expand without bound. The result always passes validateDocument.
+// cannot expand without bound (a range-coded value counts as at least one byte). The result
+// always passes validateDocument.
 Document decodeGmb(const std::string& bytes, const ReadLimits& limits,
                    const std::string& fileName = "<memory>");
 
 // Stated maximum errors of compact mode, per value, between a mesh and its compact round trip
 // (positions are rounded to a 1/32 px grid, colours to 1/256: at most 1/512 off).
-// Derivative bounds are stated for the derivative times any knot interval of its direction
-// (Δu for x_u and c_u, Δv for x_v and c_v), which is what a patch uses (gradient_mesh.h): the
-// tangent of every patch edge is within the bound, whatever the knot scale. They apply to node
-// derivatives, slit-copy derivatives, slit-end tangents and corner tangent breaks. The ±d
-// structure of slit ends holds exactly (d is stored once), and knots stay strictly increasing.
+// Derivative bounds are stated for the derivative times the larger knot interval next to its
+// node in its direction (for x_u and c_u of a node in column i, max(u_i - u_{i-1},
+// u_{i+1} - u_i); for x_v and c_v of row j likewise with v), which is what the patches using
+// it scale it by (gradient_mesh.h): the tangent of every patch edge is within the bound,
+// whatever the knot scale. They apply to node derivatives, slit-copy derivatives (the column
+// and row of their node), slit-end tangents (column i0 or i1) and corner tangent breaks (the
+// column of the corner). The ±d structure of slit ends holds exactly (d is stored once), and
+// knots stay strictly increasing.
 // A mesh whose values do not fit the quantisation grid (coordinates beyond ±2^47 px,
 // knots larger than about 2^30 times the smallest knot interval) is stored as float64, exactly.
 struct GmbCompactBounds {
     static constexpr double position = 1.0 / 64.0;         // pixels, node positions
     static constexpr double color = 0.5 / 255.0;           // 0–1 units, node colours
-    static constexpr double positionTangent = 1.0 / 64.0;  // pixels: |error of x_u| · Δu
-    static constexpr double colorTangent = 0.5 / 255.0;    // 0–1 units: |error of c_u| · Δu
+    static constexpr double positionTangent = 1.0 / 16.0;  // pixels: |error of x_u| · Δu
+    static constexpr double colorTangent = 1.0 / 256.0;    // 0–1 units: |error of c_u| · Δu
     // Each knot is within this fraction of the mesh's smallest knot interval.
     static constexpr double knotRelative = 1.0 / (1 << 22);
 };

@@ -1,0 +1,383 @@
+// The coded node planes of encoding 2 (layout: gmb_format.cpp, "Encoding 2"). All prediction
+// arithmetic is on exact integers (128-bit where products need it), so that every reader
+// reproduces the writer's predictions bit for bit.
+#include "gmb_node_planes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "gmb_range_coder.h"
+
+namespace gm::gmb {
+
+namespace {
+
+__extension__ typedef __int128 int128;  // GCC and Clang; exact products of 64-bit values
+
+constexpr int64_t kPredictionLimit = int64_t(1) << 62;  // predictions are clamped to ±this
+constexpr uint64_t kContextTermLimit = uint64_t(1) << 40;
+constexpr int kContexts = 16;
+constexpr int kLengthModels = 24;
+constexpr int32_t kMaxWeight = 32768;
+constexpr int kWeightShift = 8;
+constexpr int kWeightOne = 1 << kWeightShift;  // weights are in units of 1/256
+constexpr int kMaxShift = 16;                  // |e_derivative - e_value|
+
+// Node-record components in coding order, and each one's role: the sibling whose residual at
+// the same node it may use, the value plane a derivative is the derivative of (-1 for value
+// planes), and the direction of a derivative.
+constexpr int kCodingOrder[kNodeComponents] = {0, 1, 7, 6, 8, 2, 3, 4, 5, 10, 9, 11, 13, 12, 14};
+constexpr int kSibling[kNodeComponents] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
+constexpr int kValuePlane[kNodeComponents] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6, 7, 8, 6, 7, 8};
+constexpr bool kAlongU[kNodeComponents] = {false, false, true, true, false, false, false, false,
+                                           false, true,  true, true, false, false, false};
+
+bool isDerivative(int c) { return kValuePlane[c] >= 0; }
+
+int128 floorDiv(int128 n, int128 d) {  // d > 0
+    // Nearly always both fit in 64 bits, where division is far cheaper.
+    constexpr int128 fast = int128(1) << 62;
+    if (n < fast && n > -fast && d < fast) {
+        const auto n64 = static_cast<int64_t>(n), d64 = static_cast<int64_t>(d);
+        int64_t q = n64 / d64;
+        if (n64 % d64 != 0 && n64 < 0) --q;
+        return q;
+    }
+    int128 q = n / d;
+    if (n % d != 0 && n < 0) --q;
+    return q;
+}
+
+int64_t clampPrediction(int128 x) {
+    if (x > kPredictionLimit) return kPredictionLimit;
+    if (x < -kPredictionLimit) return -kPredictionLimit;
+    return static_cast<int64_t>(x);
+}
+
+struct Weights {
+    int32_t a = 0, b = 0, s = 0;
+};
+
+// What the prediction of one node combines: p = base + round((a·f1 + b·f2 + s·f3) / 256).
+struct Features {
+    int64_t base = 0, f1 = 0, f2 = 0, f3 = 0;
+};
+
+int64_t predictFrom(const Features& f, const Weights& w) {
+    const int128 sum = int128(w.a) * f.f1 + int128(w.b) * f.f2 + int128(w.s) * f.f3;
+    // floor((sum + 128) / 256): GCC and Clang shift signed integers arithmetically.
+    return clampPrediction(int128(f.base) + ((sum + kWeightOne / 2) >> kWeightShift));
+}
+
+// The features of one plane at any node, from what a decoder has at that point: this plane up
+// to the node (row-major), whole earlier planes (values, sibling residuals).
+class PlaneFeatures {
+public:
+    // `sibling`: the residuals of the sibling plane, if the plane has one.
+    PlaneFeatures(const CodedGrid& g, int c, const int64_t* sibling)
+        : g_(g), c_(c), stride_(static_cast<size_t>(g.columns) + 1), sibling_(sibling) {
+        const size_t n = g.nodes();
+        q_ = g.planes.data() + static_cast<size_t>(c) * n;
+        if (isDerivative(c)) {
+            value_ = g.planes.data() + static_cast<size_t>(kValuePlane[c]) * n;
+            const Field f = fieldOfComponent(c), v = fieldOfComponent(kValuePlane[c]);
+            shift_ = g.exponent[v] - g.exponent[f];
+        }
+    }
+
+    Features at(int i, int j, size_t k) const {
+        Features f;
+        if (sibling_) f.f3 = sibling_[k];
+        if (value_) {
+            f.f1 = kAlongU[c_] ? centralDifference(g_.knotU, g_.spanU, i, g_.columns, k, 1)
+                               : centralDifference(g_.knotV, g_.spanV, j, g_.rows, k, stride_);
+        } else if (i > 0 && j > 0) {
+            const int64_t left = q_[k - 1];
+            f.base = left;
+            f.f1 = q_[k - stride_] - left;
+            f.f2 = q_[k - stride_ - 1] - left;
+        } else if (i > 0) {
+            f.base = q_[k - 1];
+        } else if (j > 0) {
+            f.base = q_[k - stride_];
+        }
+        return f;
+    }
+
+private:
+    // The derivative the value plane implies at the node, in the derivative's quantisation
+    // units: (V(t1) - V(t0)) / (k_t1 - k_t0) · span · 2^shift, rounded, halves up.
+    int64_t centralDifference(const std::vector<int64_t>& knots, const std::vector<uint64_t>& spans,
+                              int t, int last, size_t k, size_t step) const {
+        const int t0 = std::max(t - 1, 0), t1 = std::min(t + 1, last);
+        const int64_t v0 = value_[k - static_cast<size_t>(t - t0) * step];
+        const int64_t v1 = value_[k + static_cast<size_t>(t1 - t) * step];
+        int128 num = int128(v1 - v0) * int128(spans[static_cast<size_t>(t)]);
+        int128 den = int128(knots[static_cast<size_t>(t1)] - knots[static_cast<size_t>(t0)]);
+        if (shift_ >= 0)
+            num *= int128(1) << shift_;
+        else
+            den *= int128(1) << -shift_;
+        return clampPrediction(floorDiv(2 * num + den, 2 * den));
+    }
+
+    const CodedGrid& g_;
+    int c_;
+    size_t stride_;
+    const int64_t* sibling_;
+    const int64_t* q_ = nullptr;
+    const int64_t* value_ = nullptr;
+    int shift_ = 0;
+};
+
+uint64_t magnitude(int64_t e) {
+    const uint64_t m = e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e);
+    return std::min(m, kContextTermLimit);
+}
+
+// The coding context of a residual: how large the residuals around it were.
+int contextOf(const int64_t* e, const int64_t* sibling, int i, int j, int columns, size_t k,
+              size_t stride) {
+    uint64_t m = 0;
+    if (i > 0) m += 2 * magnitude(e[k - 1]);
+    if (i > 1) m += magnitude(e[k - 2]);
+    if (j > 0) {
+        m += 2 * magnitude(e[k - stride]);
+        if (i > 0) m += magnitude(e[k - stride - 1]);
+        if (i < columns) m += magnitude(e[k - stride + 1]);
+    }
+    if (sibling) m += 3 * magnitude(sibling[k]);
+    const int bits = m == 0 ? 0 : 64 - __builtin_clzll(m);
+    return std::min(bits, kContexts - 1);
+}
+
+struct ResidualModels {
+    BitModel zero[kContexts], sign[kContexts], length[kContexts][kLengthModels], top[64];
+};
+
+void encodeResidual(RangeEncoder& enc, ResidualModels& m, int x, int64_t e) {
+    enc.encode(m.zero[x], e != 0);
+    if (e == 0) return;
+    enc.encode(m.sign[x], e < 0);
+    const uint64_t mag = e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e);
+    const int n = 63 - __builtin_clzll(mag);
+    for (int k = 0; k < n; ++k) enc.encode(m.length[x][std::min(k, kLengthModels - 1)], 1);
+    if (n < 63) enc.encode(m.length[x][std::min(n, kLengthModels - 1)], 0);
+    if (n >= 1) {
+        enc.encode(m.top[n], static_cast<int>((mag >> (n - 1)) & 1));
+        for (int k = n - 2; k >= 0; --k) enc.direct(static_cast<int>((mag >> k) & 1));
+    }
+}
+
+int128 decodeResidual(RangeDecoder& dec, ResidualModels& m, int x) {
+    if (!dec.decode(m.zero[x])) return 0;
+    const bool negative = dec.decode(m.sign[x]);
+    int n = 0;
+    while (n < 63 && dec.decode(m.length[x][std::min(n, kLengthModels - 1)])) ++n;
+    uint64_t mag = uint64_t(1) << n;
+    if (n >= 1) {
+        mag |= static_cast<uint64_t>(dec.decode(m.top[n])) << (n - 1);
+        for (int k = n - 2; k >= 0; --k) mag |= static_cast<uint64_t>(dec.direct()) << k;
+    }
+    return negative ? -int128(mag) : int128(mag);
+}
+
+// ---- Writer side: choosing the weights (any choice decodes; these are the cheapest we find).
+
+// Solves the (at most 3x3) normal equations A w = b; false if singular.
+bool solve(double (&A)[3][3], double (&b)[3], int m, double (&w)[3]) {
+    for (int p = 0; p < m; ++p) {
+        int best = p;
+        for (int r = p + 1; r < m; ++r)
+            if (std::fabs(A[r][p]) > std::fabs(A[best][p])) best = r;
+        std::swap(A[p], A[best]);
+        std::swap(b[p], b[best]);
+        if (!(std::fabs(A[p][p]) > 1e-300)) return false;
+        for (int r = 0; r < m; ++r) {
+            if (r == p) continue;
+            const double f = A[r][p] / A[p][p];
+            for (int c = 0; c < m; ++c) A[r][c] -= f * A[p][c];
+            b[r] -= f * b[p];
+        }
+    }
+    for (int p = 0; p < m; ++p) w[p] = b[p] / A[p][p];
+    return true;
+}
+
+// The residual cost proxy: about the bits a residual of that size takes, log2(1 + |e|) with
+// the fraction interpolated linearly.
+double costOf(const std::vector<Features>& f, const int64_t* q, const Weights& w) {
+    double bits = 0;
+    for (size_t k = 0; k < f.size(); ++k) {
+        const int64_t e = q[k] - predictFrom(f[k], w);
+        const uint64_t m = (e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e)) + 1;
+        const int n = 63 - __builtin_clzll(m);
+        bits += n + std::ldexp(static_cast<double>(m - (uint64_t(1) << n)), -n);
+    }
+    return bits;
+}
+
+// Fits the plane's weights by least squares, reweighted a few times towards least absolute
+// residuals (the coder's cost grows like log |e|: outliers should not steer the fit), and keeps
+// the fit only if it beats the default weights.
+Weights chooseWeights(const std::vector<Features>& f, const int64_t* q, bool derivative,
+                      bool sibling) {
+    Weights fallback;  // the central difference, or the parallelogram L + U - G
+    fallback.a = kWeightOne;
+    if (!derivative) fallback.b = -kWeightOne;
+    // Features used: derivative planes f1 (and f3), value planes f1, f2 (and f3).
+    int used[3], m = 0;
+    used[m++] = 1;
+    if (!derivative) used[m++] = 2;
+    if (sibling) used[m++] = 3;
+    auto feature = [&](const Features& x, int which) {
+        return static_cast<double>(which == 1 ? x.f1 : which == 2 ? x.f2 : x.f3);
+    };
+    double w[3] = {};
+    for (int pass = 0; pass < 4; ++pass) {
+        double A[3][3] = {}, b[3] = {};
+        for (size_t k = 0; k < f.size(); ++k) {
+            const double y = static_cast<double>(q[k] - f[k].base);
+            double x[3];
+            for (int a = 0; a < m; ++a) x[a] = feature(f[k], used[a]);
+            double weight = 1;
+            if (pass > 0) {
+                double r = y;
+                for (int a = 0; a < m; ++a) r -= w[a] * x[a];
+                weight = 1 / (std::fabs(r) + 1);
+            }
+            for (int a = 0; a < m; ++a) {
+                b[a] += weight * x[a] * y;
+                for (int c = 0; c < m; ++c) A[a][c] += weight * x[a] * x[c];
+            }
+        }
+        for (int a = 0; a < m; ++a) A[a][a] += 1e-9 * A[a][a] + 1e-9;
+        if (!solve(A, b, m, w)) return fallback;
+    }
+    Weights fit;
+    for (int a = 0; a < m; ++a) {
+        const double x = std::round(w[a] * kWeightOne);
+        if (!(std::fabs(x) <= kMaxWeight)) return fallback;
+        const auto wi = static_cast<int32_t>(x);
+        (used[a] == 1 ? fit.a : used[a] == 2 ? fit.b : fit.s) = wi;
+    }
+    return costOf(f, q, fit) < costOf(f, q, fallback) ? fit : fallback;
+}
+
+}  // namespace
+
+std::vector<uint64_t> localSpans(const std::vector<int64_t>& knots) {
+    const size_t n = knots.size();
+    std::vector<uint64_t> spans(n);
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t d = 0;
+        if (i > 0) d = std::max(d, static_cast<uint64_t>(knots[i] - knots[i - 1]));
+        if (i + 1 < n) d = std::max(d, static_cast<uint64_t>(knots[i + 1] - knots[i]));
+        spans[i] = d + 2;
+    }
+    return spans;
+}
+
+std::string codedExponentProblem(const int (&e)[kFieldCount]) {
+    for (Field f : {kPosU, kPosV, kColU, kColV}) {
+        const Field value = (f == kPosU || f == kPosV) ? kPos : kCol;
+        if (std::abs(e[f] - e[kKnot]) > kMaxExponent || std::abs(e[f] - e[value]) > kMaxShift)
+            return "derivative quantisation exponent " + std::to_string(e[f]) +
+                   " out of range (knot exponent " + std::to_string(e[kKnot]) +
+                   ", value exponent " + std::to_string(e[value]) + ")";
+    }
+    return {};
+}
+
+std::string encodeCodedNodes(const CodedGrid& g) {
+    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
+    const int F = g.components;
+    std::vector<int64_t> residuals(static_cast<size_t>(F) * n);
+    Weights weights[kNodeComponents];
+    std::vector<Features> features(n);
+    for (int o = 0; o < F; ++o) {
+        const int c = kCodingOrder[o];
+        const int64_t* sibling =
+            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
+        const PlaneFeatures plane(g, c, sibling);
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                features[k] = plane.at(i, j, k);
+            }
+        const int64_t* q = &g.planes[static_cast<size_t>(c) * n];
+        weights[c] = chooseWeights(features, q, isDerivative(c), kSibling[c] >= 0);
+        int64_t* e = &residuals[static_cast<size_t>(c) * n];
+        for (size_t k = 0; k < n; ++k) e[k] = q[k] - predictFrom(features[k], weights[c]);
+    }
+
+    ByteWriter out;
+    for (int o = 0; o < F; ++o) {
+        const Weights& w = weights[kCodingOrder[o]];
+        out.svarint(w.a);
+        if (!isDerivative(kCodingOrder[o])) out.svarint(w.b);
+        out.svarint(w.s);
+    }
+    RangeEncoder enc;
+    auto models = std::make_unique<ResidualModels>();
+    for (int o = 0; o < F; ++o) {
+        const int c = kCodingOrder[o];
+        *models = ResidualModels();
+        const int64_t* e = &residuals[static_cast<size_t>(c) * n];
+        const int64_t* sibling =
+            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                encodeResidual(enc, *models, contextOf(e, sibling, i, j, g.columns, k, stride),
+                               e[k]);
+            }
+    }
+    out.bytes(enc.finish());
+    return std::move(out.str());
+}
+
+void decodeCodedNodes(ByteReader& r, CodedGrid& g) {
+    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
+    const int F = g.components;
+    Weights weights[kNodeComponents];
+    for (int o = 0; o < F; ++o) {
+        Weights& w = weights[kCodingOrder[o]];
+        for (int32_t* x : {&w.a, &w.b, &w.s}) {
+            if (x == &w.b && isDerivative(kCodingOrder[o])) continue;
+            const int64_t v = r.svarint();
+            if (v > kMaxWeight || v < -kMaxWeight)
+                r.fail("plane weight " + std::to_string(v) + " out of range");
+            *x = static_cast<int32_t>(v);
+        }
+    }
+    g.planes.assign(static_cast<size_t>(F) * n, 0);
+    // Residuals are kept for the plane being decoded and for the head of its group (the
+    // sibling of the others): each sibling is the first plane of a run in the coding order.
+    std::vector<int64_t> head(n), current(n);
+    RangeDecoder dec(r);
+    auto models = std::make_unique<ResidualModels>();
+    for (int o = 0; o < F; ++o) {
+        const int c = kCodingOrder[o];
+        *models = ResidualModels();
+        const int64_t* sibling = kSibling[c] >= 0 ? head.data() : nullptr;
+        const PlaneFeatures plane(g, c, sibling);
+        int64_t* q = &g.planes[static_cast<size_t>(c) * n];
+        int64_t* e = kSibling[c] >= 0 ? current.data() : head.data();
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                const int128 residual =
+                    decodeResidual(dec, *models, contextOf(e, sibling, i, j, g.columns, k, stride));
+                const int64_t p = predictFrom(plane.at(i, j, k), weights[c]);
+                const int128 value = int128(p) + residual;
+                if (value > kMaxQuantized || value < -kMaxQuantized)
+                    r.fail("quantised value out of range");
+                q[k] = static_cast<int64_t>(value);
+                e[k] = static_cast<int64_t>(residual);  // |e| <= |q| + |p| < 2^63
+            }
+    }
+}
+
+}  // namespace gm::gmb

@@ -1,0 +1,53 @@
+// Private to the .gmb reader and writer: the NODE payload of encoding 2 (quantised, predicted
+// and range-coded; specified at the top of gmb_format.cpp under "Encoding 2"). Prediction and
+// residual coding live here once, for both directions, so that writer and reader cannot drift.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gmb_pvt.h"
+
+namespace gm::gmb {
+
+// The spans D of the columns (or rows) of a mesh, from its quantised knots k_0..k_N: at index
+// i, the larger of k_i - k_{i-1} and k_{i+1} - k_i (those that exist), plus 2. Needs N >= 1 and
+// strictly increasing knots within ±2^53, as KNOT guarantees.
+std::vector<uint64_t> localSpans(const std::vector<int64_t>& knots);
+
+// The value of a quantised derivative q in encoding 2: q · 2^(e_field - e_knot) / span, with
+// one IEEE division (exactly what a reader on any platform computes).
+inline double codedDerivative(int64_t q, int exponentFromKnot, uint64_t span) {
+    return std::ldexp(static_cast<double>(q), exponentFromKnot) / static_cast<double>(span);
+}
+
+// Encoding 2 needs |e_f - e_knot| <= kMaxExponent (finite values) and |e_f - e_value| <= 16
+// (exact prediction arithmetic) for the four derivative fields; an empty string if they hold.
+std::string codedExponentProblem(const int (&exponent)[kFieldCount]);
+
+// One mesh's quantised nodes and what their prediction needs.
+struct CodedGrid {
+    int columns = 0, rows = 0;
+    int components = 0;  // kNodeComponents, or kNodeComponentsByRule without colour derivatives
+    int exponent[kFieldCount] = {};
+    std::vector<int64_t> knotU, knotV;   // quantised knots
+    std::vector<uint64_t> spanU, spanV;  // localSpans of the knots
+    // Quantised values, plane by plane in node-record component order: component c of node k
+    // is planes[c * nodes + k].
+    std::vector<int64_t> planes;
+
+    size_t nodes() const {
+        return static_cast<size_t>(columns + 1) * static_cast<size_t>(rows + 1);
+    }
+};
+
+// The NODE payload: the weights of every plane, then the range-coded residuals.
+std::string encodeCodedNodes(const CodedGrid& grid);
+
+// Fills grid.planes (everything else must be set) from the payload in `reader`, which it reads
+// to the end; every failure is a gm::Error through the reader.
+void decodeCodedNodes(ByteReader& reader, CodedGrid& grid);
+
+}  // namespace gm::gmb

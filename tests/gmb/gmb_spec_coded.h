@@ -1,0 +1,334 @@
+// An independent reading of the NODE payload of encoding 2 (range-coded), written from the
+// specification at the top of formats/gmb/src/gmb_format.cpp rather than from the reader: the
+// tests decode the writer's files with it (so the spec is enough to write a decoder), and build
+// range-coded payloads that the writer never produces (malformed cases).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "meshcore/gradient_mesh.h"
+
+namespace gmbtest {
+
+__extension__ typedef __int128 SpecInt;
+
+inline SpecInt specFloorDiv(SpecInt n, SpecInt d) {  // d > 0
+    SpecInt q = n / d;
+    if (q * d > n) --q;
+    return q;
+}
+inline SpecInt specClamp62(SpecInt x) {
+    const SpecInt l = SpecInt(1) << 62;
+    return x > l ? l : (x < -l ? -l : x);
+}
+inline SpecInt specRnd(SpecInt n) { return specFloorDiv(n + 128, 256); }
+inline uint64_t specAbs(int64_t x) {
+    return x < 0 ? 0 - static_cast<uint64_t>(x) : static_cast<uint64_t>(x);
+}
+inline int specBitLength(uint64_t m) {
+    int n = 0;
+    while (m) {
+        ++n;
+        m >>= 1;
+    }
+    return n;
+}
+
+struct SpecModel {
+    uint32_t A = 32768, B = 32768, c = 0;
+    uint32_t P() const {
+        const uint32_t p = (A + B) / 2;
+        return p < 32 ? 32 : (p > 65504 ? 65504 : p);
+    }
+    void update(int x) {
+        uint32_t w = 16;
+        if (c < 30) {
+            w = 1 + c / 2;
+            ++c;
+        }
+        const uint32_t a = w < 4 ? w : 4, b = w < 7 ? w : 7;
+        if (x) {
+            A += (65536 - A) >> a;
+            B += (65536 - B) >> b;
+        } else {
+            A -= A >> a;
+            B -= B >> b;
+        }
+    }
+};
+
+struct SpecPlaneModels {
+    SpecModel zero[16], sign[16], length[16][24], top[64];
+};
+
+class SpecRangeDecoder {
+public:
+    SpecRangeDecoder(const std::string& s, size_t begin) : s_(s), pos_(begin) {
+        if (byte() != 0) throw std::runtime_error("first byte of the range-coded stream is not 0");
+        for (int k = 0; k < 4; ++k) V_ = (V_ << 8) | byte();
+    }
+    int decision(SpecModel& m) {
+        const uint32_t T = (R_ >> 16) * m.P();
+        int x;
+        if (V_ < T) {
+            x = 1;
+            R_ = T;
+        } else {
+            x = 0;
+            V_ -= T;
+            R_ -= T;
+        }
+        m.update(x);
+        normalise();
+        return x;
+    }
+    int direct() {
+        R_ /= 2;
+        int x = 0;
+        if (V_ >= R_) {
+            x = 1;
+            V_ -= R_;
+        }
+        normalise();
+        return x;
+    }
+    size_t position() const { return pos_; }
+
+private:
+    uint32_t byte() {
+        if (pos_ >= s_.size()) throw std::runtime_error("range-coded stream ends early");
+        return static_cast<unsigned char>(s_[pos_++]);
+    }
+    void normalise() {
+        while (R_ < (1u << 24)) {
+            R_ <<= 8;
+            V_ = (V_ << 8) | byte();
+        }
+    }
+    const std::string& s_;
+    size_t pos_;
+    uint32_t R_ = 0xffffffffu, V_ = 0;
+};
+
+// The encoder side, for crafting streams (the spec names LZMA's encoder).
+class SpecRangeEncoder {
+public:
+    void decision(SpecModel& m, int x) {
+        const uint32_t T = (R_ >> 16) * m.P();
+        if (x) {
+            R_ = T;
+        } else {
+            low_ += T;
+            R_ -= T;
+        }
+        m.update(x);
+        normalise();
+    }
+    void direct(int x) {
+        R_ /= 2;
+        if (x) low_ += R_;
+        normalise();
+    }
+    void residual(SpecPlaneModels& m, int ctx, int64_t r) {
+        decision(m.zero[ctx], r != 0);
+        if (r == 0) return;
+        decision(m.sign[ctx], r < 0);
+        const uint64_t M = specAbs(r);
+        const int n = specBitLength(M) - 1;
+        for (int k = 0; k < n; ++k) decision(m.length[ctx][k < 23 ? k : 23], 1);
+        if (n < 63) decision(m.length[ctx][n < 23 ? n : 23], 0);
+        if (n >= 1) {
+            decision(m.top[n], static_cast<int>((M >> (n - 1)) & 1));
+            for (int k = n - 2; k >= 0; --k) direct(static_cast<int>((M >> k) & 1));
+        }
+    }
+    std::string finish() {
+        for (int k = 0; k < 5; ++k) shiftLow();
+        return out_;
+    }
+
+private:
+    void normalise() {
+        while (R_ < (1u << 24)) {
+            R_ <<= 8;
+            shiftLow();
+        }
+    }
+    void shiftLow() {
+        if (static_cast<uint32_t>(low_) < 0xff000000u || (low_ >> 32) != 0) {
+            const auto carry = static_cast<uint8_t>(low_ >> 32);
+            uint8_t b = cache_;
+            do {
+                out_.push_back(static_cast<char>(static_cast<uint8_t>(b + carry)));
+                b = 0xff;
+            } while (--pending_ != 0);
+            cache_ = static_cast<uint8_t>(low_ >> 24);
+        }
+        ++pending_;
+        low_ = (low_ & 0x00ffffffu) << 8;
+    }
+    uint64_t low_ = 0;
+    uint32_t R_ = 0xffffffffu;
+    uint8_t cache_ = 0;
+    uint64_t pending_ = 1;
+    std::string out_;
+};
+
+inline void putSvarint(std::string& s, int64_t n) {
+    uint64_t z = (static_cast<uint64_t>(n) << 1) ^ (n < 0 ? ~uint64_t(0) : 0);
+    while (z >= 0x80) {
+        s.push_back(static_cast<char>((z & 0x7f) | 0x80));
+        z >>= 7;
+    }
+    s.push_back(static_cast<char>(z));
+}
+
+// What decoding one mesh's NODE needs from MESH and KNOT.
+struct SpecMeshInfo {
+    int C = 0, R = 0, F = 15;
+    int e[7] = {};                // knot pos posU posV col colU colV
+    std::vector<int64_t> ku, kv;  // quantised knots
+};
+
+// Spans of the columns (or rows) from quantised knots.
+inline std::vector<int64_t> specSpans(const std::vector<int64_t>& k) {
+    std::vector<int64_t> D(k.size());
+    for (size_t i = 0; i < k.size(); ++i) {
+        int64_t d = 0;
+        if (i > 0 && k[i] - k[i - 1] > d) d = k[i] - k[i - 1];
+        if (i + 1 < k.size() && k[i + 1] - k[i] > d) d = k[i + 1] - k[i];
+        D[i] = d + 2;
+    }
+    return D;
+}
+
+// Decodes a NODE payload of encoding 2 to its q planes, indexed [component][node] in node-record
+// order. Throws std::runtime_error where the spec says the data is bad.
+inline std::vector<std::vector<int64_t>> specDecodeCodedNodes(const std::string& payload,
+                                                              const SpecMeshInfo& in) {
+    static const int order[15] = {0, 1, 7, 6, 8, 2, 3, 4, 5, 10, 9, 11, 13, 12, 14};
+    static const int sibling[15] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
+    static const int valueOf[15] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6, 7, 8, 6, 7, 8};
+    static const int fieldOf[15] = {1, 1, 2, 2, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6};
+    const int C = in.C, R = in.R;
+    const size_t n = static_cast<size_t>(C + 1) * (R + 1);
+    // Weights.
+    size_t pos = 0;
+    auto svarint = [&]() {
+        uint64_t z = 0;
+        for (int k = 0;; ++k) {
+            if (pos >= payload.size() || k == 10) throw std::runtime_error("bad weight varint");
+            const auto b = static_cast<unsigned char>(payload[pos++]);
+            z |= uint64_t(b & 0x7f) << (7 * k);
+            if (!(b & 0x80)) break;
+        }
+        return static_cast<int64_t>((z >> 1) ^ (0 - (z & 1)));
+    };
+    int64_t wa[15] = {}, wb[15] = {}, ws[15] = {};
+    for (int o = 0; o < in.F; ++o) {
+        const int c = order[o];
+        wa[c] = svarint();
+        if (valueOf[c] < 0) wb[c] = svarint();
+        ws[c] = svarint();
+        for (int64_t w : {wa[c], wb[c], ws[c]})
+            if (w > 32768 || w < -32768) throw std::runtime_error("weight out of range");
+    }
+    const std::vector<int64_t> Du = specSpans(in.ku), Dv = specSpans(in.kv);
+    std::vector<std::vector<int64_t>> q(15, std::vector<int64_t>(n, 0)),
+        r(15, std::vector<int64_t>(n, 0));
+    SpecRangeDecoder dec(payload, pos);
+    auto at = [&](int i, int j) { return static_cast<size_t>(j) * (C + 1) + i; };
+    for (int o = 0; o < in.F; ++o) {
+        const int c = order[o];
+        SpecPlaneModels m;
+        for (int j = 0; j <= R; ++j) {
+            for (int i = 0; i <= C; ++i) {
+                auto mag = [&](int ii, int jj) -> uint64_t {
+                    if (ii < 0 || ii > C || jj < 0) return 0;
+                    const uint64_t x = specAbs(r[c][at(ii, jj)]);
+                    return x > (uint64_t(1) << 40) ? uint64_t(1) << 40 : x;
+                };
+                const int64_t S = sibling[c] >= 0 ? r[sibling[c]][at(i, j)] : 0;
+                uint64_t S40 = specAbs(S);
+                if (S40 > (uint64_t(1) << 40)) S40 = uint64_t(1) << 40;
+                const uint64_t msum = 2 * mag(i - 1, j) + 2 * mag(i, j - 1) + mag(i - 1, j - 1) +
+                                      mag(i + 1, j - 1) + mag(i - 2, j) + 3 * S40;
+                int x = specBitLength(msum);
+                if (x > 15) x = 15;
+                // The residual.
+                SpecInt res = 0;
+                if (dec.decision(m.zero[x])) {
+                    const int negative = dec.decision(m.sign[x]);
+                    int len = 0;
+                    while (len < 63 && dec.decision(m.length[x][len < 23 ? len : 23])) ++len;
+                    uint64_t M = uint64_t(1) << len;
+                    if (len >= 1) {
+                        M |= uint64_t(dec.decision(m.top[len])) << (len - 1);
+                        for (int k = len - 2; k >= 0; --k) M |= uint64_t(dec.direct()) << k;
+                    }
+                    res = negative ? -SpecInt(M) : SpecInt(M);
+                }
+                // The prediction.
+                SpecInt p;
+                if (valueOf[c] < 0) {
+                    const std::vector<int64_t>& Q = q[c];
+                    if (i > 0 && j > 0) {
+                        const SpecInt L = Q[at(i - 1, j)], U = Q[at(i, j - 1)],
+                                      G = Q[at(i - 1, j - 1)];
+                        p = L + specRnd(wa[c] * (U - L) + wb[c] * (G - L) + ws[c] * SpecInt(S));
+                    } else if (i > 0) {
+                        p = Q[at(i - 1, 0)] + specRnd(ws[c] * SpecInt(S));
+                    } else if (j > 0) {
+                        p = Q[at(0, j - 1)] + specRnd(ws[c] * SpecInt(S));
+                    } else {
+                        p = specRnd(ws[c] * SpecInt(S));
+                    }
+                } else {
+                    const bool alongU = c == 2 || c == 3 || (c >= 9 && c <= 11);
+                    const std::vector<int64_t>& V = q[valueOf[c]];
+                    const int t = in.e[fieldOf[valueOf[c]]] - in.e[fieldOf[c]];
+                    SpecInt M, W;
+                    if (alongU) {
+                        const int i0 = i > 0 ? i - 1 : 0, i1 = i < C ? i + 1 : C;
+                        M = SpecInt(V[at(i1, j)] - V[at(i0, j)]) * Du[i];
+                        W = SpecInt(in.ku[i1] - in.ku[i0]);
+                    } else {
+                        const int j0 = j > 0 ? j - 1 : 0, j1 = j < R ? j + 1 : R;
+                        M = SpecInt(V[at(i, j1)] - V[at(i, j0)]) * Dv[j];
+                        W = SpecInt(in.kv[j1] - in.kv[j0]);
+                    }
+                    if (t > 0) M *= SpecInt(1) << t;
+                    if (t < 0) W *= SpecInt(1) << -t;
+                    const SpecInt cd = specClamp62(specFloorDiv(2 * M + W, 2 * W));
+                    p = specRnd(wa[c] * cd + ws[c] * SpecInt(S));
+                }
+                p = specClamp62(p);
+                const SpecInt value = p + res;
+                if (value > (SpecInt(1) << 53) || value < -(SpecInt(1) << 53))
+                    throw std::runtime_error("quantised value out of range");
+                q[c][at(i, j)] = static_cast<int64_t>(value);
+                r[c][at(i, j)] = static_cast<int64_t>(res);
+            }
+        }
+    }
+    if (dec.position() != payload.size())
+        throw std::runtime_error("bytes after the range-coded stream");
+    return q;
+}
+
+// The value of component c (node-record order) of a node in column i, row j, from its q.
+inline double specCodedValue(const SpecMeshInfo& in, int c, int64_t q, int i, int j) {
+    static const int fieldOf[15] = {1, 1, 2, 2, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6};
+    const int f = fieldOf[c];
+    if (f == 1 || f == 4) return std::ldexp(static_cast<double>(q), in.e[f]);
+    const bool alongU = f == 2 || f == 5;
+    const int64_t D = alongU ? specSpans(in.ku)[static_cast<size_t>(i)]
+                             : specSpans(in.kv)[static_cast<size_t>(j)];
+    return std::ldexp(static_cast<double>(q), in.e[f] - in.e[0]) / static_cast<double>(D);
+}
+
+}  // namespace gmbtest
