@@ -152,15 +152,15 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
                                    const SegmentConvertOptions& options, int depth);
 
 // The region cut at `cut`, each side's pieces converted by convertSegmentRegion (side 1 drawn
-// first, reaching under side 2); how 4, or how 0 when nothing converted. `complete`: every
-// piece converted.
+// first, reaching under side 2), sharing the region's budget co.maxPatches by their pixels; how
+// 4, or how 0 when nothing converted. `complete`: every piece converted.
 RegionOutcome convertSides(const RgbaImage& image, const Region& own,
-                           const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                           const std::vector<uint8_t>& under, const ConvertOptions& co,
                            const SegmentConvertOptions& options, int depth, const NeckCut& cut,
                            bool& complete) {
     RegionOptions ro;
     ro.minArea = 1;
-    ro.minHole = coAll.minHole;
+    ro.minHole = co.minHole;
     std::vector<RegionReport> parts;
     RegionOutcome split;
     std::vector<std::string> notes;
@@ -179,7 +179,11 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
             continue;
         }
         for (const Region& piece : pieces) {
-            RegionOutcome sub = convertSegmentRegion(image, piece, beneath, coAll, options, depth + 1);
+            ConvertOptions share = co;
+            share.maxPatches = std::max<int>(
+                1, static_cast<int>(std::lround(double(co.maxPatches) * piece.pixelCount /
+                                                std::max(1, own.pixelCount))));
+            RegionOutcome sub = convertSegmentRegion(image, piece, beneath, share, options, depth + 1);
             for (GradientMesh& m : sub.meshes) split.meshes.push_back(std::move(m));
             if (sub.how == 0) {
                 sub.report.part = "left uncovered";
@@ -221,7 +225,7 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
         cut = findNeck(own, options.neck);
     RegionOutcome split;
     bool complete = false;
-    if (cut) split = convertSides(image, own, under, coAll, options, depth, *cut, complete);
+    if (cut) split = convertSides(image, own, under, co, options, depth, *cut, complete);
     auto take = [&](RegionOutcome& whole) {
         const double e = whole.report.error.meanAbs;
         const bool better = split.how != 0 &&

@@ -34,8 +34,9 @@ struct SegmentConvertOptions {
     int overlap = 1;             // pixels each region's outline reaches under its neighbours
     // A region of at least neckMinPixels whose mesh misses --max-error by more than
     // neckErrorFactor (or that fails) is cut at its narrowest neck (neck.h) and each side
-    // converted on its own, recursively up to neckSplits cuts deep; the cut is kept when it
-    // lowers the region's error by 5 %. 0 neckSplits: never.
+    // converted on its own (the sides share the region's budget by their pixels), recursively
+    // up to neckSplits cuts deep; the cut is kept when it lowers the region's error by 5 %.
+    // 0 neckSplits: never.
     int neckSplits = 2;
     int neckMinPixels = 2000;
     double neckErrorFactor = 1.1;
