@@ -322,6 +322,10 @@ TEST_CASE("stress geometry: a hole 2 px from a straight side", "[convert][holes]
     const std::vector<StressCase> cases = {
         // Hole r 12 2 px from the straight top side of a square.
         {"hole 2 px from a straight side", stressSquare, {{100, 34, 12}}},
+        // The same next to the left and right sides, where the slit ends (its u range
+        // reaches almost to the side).
+        {"hole 2 px from the right side", stressSquare, {{166, 100, 12}}},
+        {"hole 2 px from the left side", stressSquare, {{34, 100, 12}}},
     };
     for (const StressCase& k : cases)
         SECTION(k.label) { runStressCase(k); }
