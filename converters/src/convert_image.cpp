@@ -280,15 +280,12 @@ void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
     }
 }
 
-}  // namespace
-
 // The last resort for a piece that no map handles, not even in parts (a network of thin
 // leaves, a thin ring with branches): cut across the longer side of its bounding box, each
 // 8-connected component of each half its own mesh reaching a pixel under the rest of the
 // piece; a component that fails too is cut again, up to kMaxTileDepth times. Components under
 // 16 px are left to their neighbours' overlap; what still fails is reported as left uncovered.
 // Meshes and reports are appended, `part` saying "tile".
-namespace {
 constexpr int kMaxTileDepth = 6;
 void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOptions& options,
                     const PartsBeneath& beneath, std::vector<GradientMesh>& meshes,
