@@ -135,6 +135,28 @@ double stretchOf(const TriMesh& mesh, const std::vector<Vec2>& uv,
     return std::sqrt(sumL2 / sum8) * std::sqrt(sumUv / sum8);
 }
 
+// Freezes the vertices within `rings` edges of the seeds (walking through frozen vertices too);
+// returns how many were not frozen before.
+int freezeRings(const TriMesh& mesh, const detail::VertexTriangles& vt, std::vector<int> front,
+                int rings, std::vector<char>& frozen) {
+    std::vector<char> seen(frozen.size(), 0);
+    for (int i : front) seen[i] = 1;
+    int newly = 0;
+    for (int r = 0; r < rings && !front.empty(); ++r) {
+        std::vector<int> next;
+        for (int i : front)
+            for (int k = vt.start[i]; k < vt.start[i + 1]; ++k)
+                for (int j : mesh.triangles[vt.tris[k]])
+                    if (!seen[j]) {
+                        seen[j] = 1;
+                        next.push_back(j);
+                        if (!frozen[j]) frozen[j] = 1, ++newly;
+                    }
+        front = std::move(next);
+    }
+    return newly;
+}
+
 }  // namespace
 
 std::vector<FeatureCoords> featureCoordinates(const TriMesh& mesh, const RgbaImage& image, double w,
@@ -211,6 +233,7 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
     for (const auto& h : mesh.holeLoops)
         for (int i : h) frozen[i] = 1;
     const int loopVertices = static_cast<int>(std::count(frozen.begin(), frozen.end(), 1));
+    const detail::VertexTriangles vt(mesh);
 
     FeatureMap result;
     result.map = initial;
@@ -237,8 +260,8 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
         const detail::WeightMatrix W = W0 * columnScale.asDiagonal();
 
         // With slits the fixed boundary is not convex, so a positive-weight solve can fold near
-        // a slit end: freeze the free vertices of folded triangles where they are and solve
-        // again, a few times at most.
+        // a slit end: freeze the free vertices of folded triangles and their neighbours
+        // (foldFreezeRings) where they are and solve again, a few times at most.
         bool folded = true;
         for (int round = 0; round < 8 && folded; ++round) {
             int count = 0;
@@ -251,6 +274,7 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
             const detail::LaplacianSystem sys =
                 detail::assembleLaplacian(W, unknown, count, fixedValues);
             solver.compute(sys.A);
+            ++result.factorizations;
             if (solver.info() != Eigen::Success)
                 throw Error("feature map: the stretch-weighted system could not be factorised");
             const Eigen::MatrixXd next = solver.solve(sys.rhs);
@@ -261,9 +285,14 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
             const std::vector<int> flipped = detail::flippedTriangles(mesh, full);
             folded = !flipped.empty();
             int newlyFrozen = 0;
+            std::vector<int> seeds;
             for (int t : flipped)
-                for (int k : mesh.triangles[t])
+                for (int k : mesh.triangles[t]) {
+                    seeds.push_back(k);
                     if (!frozen[k]) frozen[k] = 1, ++newlyFrozen;
+                }
+            if (newlyFrozen > 0)
+                newlyFrozen += freezeRings(mesh, vt, seeds, options.foldFreezeRings, frozen);
             result.frozenVertices += newlyFrozen;
             if (newlyFrozen == 0) break;
         }

@@ -10,6 +10,21 @@
 
 namespace gm::detail {
 
+// Vertex → incident triangles, compressed: the triangles of vertex i are
+// tris[start[i] .. start[i+1]).
+struct VertexTriangles {
+    std::vector<int> start, tris;
+    explicit VertexTriangles(const TriMesh& mesh) : start(mesh.vertices.size() + 1, 0) {
+        for (const auto& t : mesh.triangles)
+            for (int k : t) ++start[k + 1];
+        for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+        tris.resize(start.back());
+        std::vector<int> fill(start.begin(), start.end() - 1);
+        for (size_t t = 0; t < mesh.triangles.size(); ++t)
+            for (int k : mesh.triangles[t]) tris[fill[k]++] = static_cast<int>(t);
+    }
+};
+
 // W(i, j) is the weight of neighbour j in vertex i's equation  Σ_j W(i,j)·(x_i − x_j) = 0.
 using WeightMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 

@@ -111,19 +111,7 @@ void placeOuterLoop(const TriMesh& mesh, const std::array<std::vector<int>, 4>& 
     }
 }
 
-// Vertex → incident triangles, compressed.
-struct VertexTriangles {
-    std::vector<int> start, tris;
-    explicit VertexTriangles(const TriMesh& mesh) : start(mesh.vertices.size() + 1, 0) {
-        for (const auto& t : mesh.triangles)
-            for (int k : t) ++start[k + 1];
-        for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-        tris.resize(start.back());
-        std::vector<int> fill(start.begin(), start.end() - 1);
-        for (size_t t = 0; t < mesh.triangles.size(); ++t)
-            for (int k : mesh.triangles[t]) tris[fill[k]++] = static_cast<int>(t);
-    }
-};
+using detail::VertexTriangles;
 
 // Strictly increasing values along a chain with fixed ends: every step is at least
 // floorFraction of the mean step, the others shrink in proportion. Returns whether any step

@@ -100,6 +100,36 @@ TEST_CASE("feature map keeps slits fixed and never folds", "[feature_map]") {
     requireLoopsFixed(mesh, tm.map, fm.map);
 }
 
+TEST_CASE("feature map with 21 holes: a fold freezes its neighbours too, fewer solves", "[feature_map]") {
+    // Like the amulet: around each slit end (a 360° angle of the parameter domain) a
+    // positive-weight solve can fold; each fold costs another factorisation. Freezing the
+    // neighbours of folded triangles with them halves the count here (the amulet: 10
+    // factorisations for 3 iterations before).
+    std::vector<Circle> holes{{{128, 128}, 14}};
+    for (int k = 0; k < 8; ++k)
+        holes.push_back({{128 + 45 * std::cos(k * M_PI / 4), 128 + 45 * std::sin(k * M_PI / 4)}, 8});
+    for (int k = 0; k < 12; ++k)
+        holes.push_back({{128 + 85 * std::cos((k + 0.5) * M_PI / 6), 128 + 85 * std::sin((k + 0.5) * M_PI / 6)}, 6});
+    const TriMesh mesh = holedDisk({{128, 128}, 110}, holes, 4);
+    REQUIRE(mesh.holeLoops.size() == 21);
+    const RgbaImage img = rampImage(256, 256, 140, 6);
+    const TopologyMap tm = buildTopologyMap(mesh, 220, 220);
+    FeatureMapOptions plain;
+    plain.foldFreezeRings = 0;
+    const FeatureMap before = buildFeatureMap(mesh, tm.map, img, plain);
+    const FeatureMap fm = buildFeatureMap(mesh, tm.map, img);
+    INFO("factorisations " << before.factorizations << " for " << before.solves
+                           << " iterations freezing folds only, " << fm.factorizations << " for "
+                           << fm.solves << " with; stretch " << before.stretch.back() << ", "
+                           << fm.stretch.back() << " (start " << fm.stretch.front() << ")");
+    REQUIRE(countFlippedTriangles(mesh, fm.map) == 0);
+    requireLoopsFixed(mesh, tm.map, fm.map);
+    requireDecreasing(fm.stretch);
+    CHECK(fm.factorizations <= 2 * fm.solves + 1);
+    CHECK(fm.factorizations < before.factorizations);
+    CHECK(fm.stretch.back() < 0.95 * fm.stretch.front());
+}
+
 TEST_CASE("feature map of a flat image changes little", "[feature_map]") {
     const TriMesh mesh = squareGrid(15, 100, 0.2);
     RgbaImage img(128, 128);
