@@ -11,45 +11,19 @@ namespace {
 
 double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
-// Keeps only the largest 8-connected component of the pixels labelled `keep` within the box;
-// the other pixels with that label get `other`.
-void keepLargest(std::vector<uint8_t>& side, int w, int x0, int y0, int x1, int y1, uint8_t keep,
-                 uint8_t other) {
-    std::vector<int> comp(side.size(), -1);
-    std::vector<size_t> sizes, stack;
-    for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-            const size_t start = static_cast<size_t>(y) * w + x;
-            if (side[start] != keep || comp[start] >= 0) continue;
-            const int id = static_cast<int>(sizes.size());
-            size_t n = 0;
-            comp[start] = id;
-            stack.push_back(start);
-            while (!stack.empty()) {
-                const size_t k = stack.back();
-                stack.pop_back();
-                ++n;
-                const int kx = static_cast<int>(k % w), ky = static_cast<int>(k / w);
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int nx = kx + dx, ny = ky + dy;
-                        if (nx < x0 || nx > x1 || ny < y0 || ny > y1) continue;
-                        const size_t m = static_cast<size_t>(ny) * w + nx;
-                        if (side[m] == keep && comp[m] < 0) {
-                            comp[m] = id;
-                            stack.push_back(m);
-                        }
-                    }
-            }
-            sizes.push_back(n);
-        }
-    if (sizes.size() < 2) return;
-    const int largest = static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
-    for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-            const size_t k = static_cast<size_t>(y) * w + x;
-            if (side[k] == keep && comp[k] != largest) side[k] = other;
-        }
+// Each side keeps only its largest 8-connected component; the pixels of its other components
+// go to the other side.
+void keepLargest(std::vector<uint8_t>& side, int w, int h) {
+    std::vector<int> cls(side.size()), compId;
+    for (size_t k = 0; k < side.size(); ++k) cls[k] = side[k] ? side[k] : -1;
+    const std::vector<PixelComponent> comps = labelComponents(w, h, cls, compId);
+    int largest[3] = {-1, -1, -1};
+    for (int c = 0; c < static_cast<int>(comps.size()); ++c) {
+        int& best = largest[comps[c].label];
+        if (best < 0 || comps[c].size > comps[best].size) best = c;
+    }
+    for (size_t k = 0; k < side.size(); ++k)
+        if (side[k] && compId[k] != largest[side[k]]) side[k] = side[k] == 1 ? 2 : 1;
 }
 
 }  // namespace
@@ -141,8 +115,7 @@ std::optional<NeckCut> findNeck(const Region& region, const NeckOptions& options
             if (region.mask[k]) cut.side[k] = (c % 2 == 1) ? 1 : 2;
         }
     }
-    keepLargest(cut.side, w, x0, y0, x1, y1, 1, 2);
-    keepLargest(cut.side, w, x0, y0, x1, y1, 2, 1);
+    keepLargest(cut.side, w, h);
     bool has1 = false, has2 = false;
     for (uint8_t v : cut.side) has1 |= v == 1, has2 |= v == 2;
     if (!has1 || !has2) return std::nullopt;

@@ -11,25 +11,15 @@
 
 namespace gm {
 
-namespace {
-
-// Pixel classes: -1 is background; pixels of equal class that are 8-neighbours share a component.
-struct Component {
-    int label = 0;
-    int size = 0;
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // inclusive bounding box
-};
-
-// Labels 8-connected components of equal non-negative class; compId gets -1 for background.
-std::vector<Component> labelComponents(int width, int height, const std::vector<int>& cls,
-                                       std::vector<int>& compId) {
+std::vector<PixelComponent> labelComponents(int width, int height, const std::vector<int>& cls,
+                                            std::vector<int>& compId) {
     compId.assign(cls.size(), -1);
-    std::vector<Component> comps;
+    std::vector<PixelComponent> comps;
     std::vector<int> stack;
     for (int start = 0; start < width * height; ++start) {
         if (cls[start] < 0 || compId[start] >= 0) continue;
         const int id = static_cast<int>(comps.size());
-        Component c;
+        PixelComponent c;
         c.label = cls[start];
         c.x0 = c.x1 = start % width;
         c.y0 = c.y1 = start / width;
@@ -60,6 +50,8 @@ std::vector<Component> labelComponents(int width, int height, const std::vector<
     }
     return comps;
 }
+
+namespace {
 
 double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
@@ -316,7 +308,7 @@ void simplifyLoops(std::vector<Polygon*> loops, double tol, double maxSegment) {
 
 // Builds one region from a component. `source(x, y)` is the coverage to trace at an image pixel
 // (only its sub-pixel position matters: which pixels are inside comes from the component).
-Region buildRegion(int width, int height, const Component& comp, int compIndex,
+Region buildRegion(int width, int height, const PixelComponent& comp, int compIndex,
                    const std::vector<int>& compId, const std::function<float(int, int)>& source,
                    const RegionOptions& options) {
     Region region;
@@ -452,7 +444,7 @@ std::vector<Region> regionsFromClasses(int width, int height, const std::vector<
                                        const std::function<float(int, int, bool)>& source,
                                        const RegionOptions& options, const char* what) {
     std::vector<int> compId;
-    std::vector<Component> comps = labelComponents(width, height, cls, compId);
+    std::vector<PixelComponent> comps = labelComponents(width, height, cls, compId);
     if (comps.empty()) throw Error("the " + std::string(what) + " is empty: no object pixel");
     std::vector<int> order;
     for (size_t c = 0; c < comps.size(); ++c)

@@ -58,6 +58,18 @@ std::vector<Region> extractRegions(const Coverage& coverage, const RegionOptions
 std::vector<Region> extractRegionsFromLabels(int width, int height, const std::vector<int>& labels,
                                              const RegionOptions& options = {});
 
+// An 8-connected component of pixels of one class.
+struct PixelComponent {
+    int label = 0;  // its class
+    int size = 0;   // pixels
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // inclusive bounding box
+};
+
+// Labels the 8-connected components of equal non-negative class (cls: width*height, -1 is
+// background); compId (resized) gets each pixel's component index, -1 for background.
+std::vector<PixelComponent> labelComponents(int width, int height, const std::vector<int>& cls,
+                                            std::vector<int>& compId);
+
 // The smallest box of pixels holding every non-zero pixel of a mask (width*height); empty()
 // when there is none.
 struct PixelBox {
