@@ -62,11 +62,12 @@ struct SegmentConvertReport {
     double totalSeconds = 0;     // wall, segmentation to measurement
 };
 
-// Throws gm::Error naming `imageName` when the image is empty or the segmentation fails; a
-// region that cannot be converted is retried with its holes filled, then as its core without the
-// parts thinner than 5 px, then 11 px (holes filled), plus those parts as meshes of their own
-// (convertThinParts: in parts or tiles where no map works), and else left to the base mesh (each
-// reported in `fallbacks`, never silently).
+// Throws gm::Error naming `imageName` when the image is empty or the segmentation fails. A
+// region whose mesh misses the error target (see neckSplits) or whose map fails is first cut at
+// its narrowest neck; a region that cannot be converted otherwise is retried with its holes
+// filled, then as its core without the parts thinner than 5 px, then 11 px (holes filled), plus
+// those parts as meshes of their own (convertThinParts: in parts or tiles where no map works),
+// and else left to the base mesh (each reported in `fallbacks`, never silently).
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report = nullptr);
 
