@@ -11,6 +11,7 @@
 #include <string>
 
 #include "meshcore/error.h"
+#include "converters/unfold.h"
 #include "meshcore/evaluate.h"
 
 namespace gm {
@@ -933,6 +934,7 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
         }
         if (!settled) apply(0.0);
     }
+    if (options.unfold) unfoldPatches(mesh);
     return mesh;
 }
 

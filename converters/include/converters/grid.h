@@ -55,6 +55,9 @@ struct GridOptions {
     // outline. Slits (holes) are not affected.
     double outlineCover = -1;
     double outlineSlack = 0.5;  // pixels
+    // Folded patches mended last (unfoldPatches: corner derivatives pulled toward their grid
+    // lines' chords; positions, outline and slits untouched).
+    bool unfold = true;
 };
 
 // The knot vectors buildGrid uses for these options: required knots (0, the extent, extras,
