@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/gmb.h"
 #include "formats/raster.h"
 #include "image_command.h"
 #include "formats/registry.h"
@@ -50,6 +51,8 @@ const std::map<std::string, std::string> kHelp = {
      "  Reads IN (by content and extension) and writes OUT in the format of its extension.\n"
      "  -o, --output PATH       output file (required; never the input)\n"
      "  --compact               .gmb: quantised, compressed (positions within 1/64 px)\n"
+     "  --compact-level L       .gmb: compact with coarser grids, L = 0 (as --compact) to 3;\n"
+     "                          2 is ~40% smaller for ~0.2 dB of PSNR on a photo\n"
      "  --legacy                write every mesh with holes as its hole-free pieces\n"
      "  --svg-colors MODE       SVG: exact (default, subdivided) or editable (bicubic)\n"
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 0.5)\n"
@@ -121,9 +124,11 @@ Args parseArgs(const std::string& command, int argc, char** argv, const std::set
 double parseNumber(const std::string& option, const std::string& text, double lo, double hi) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-        throw UsageError(option + " expects a number from " + std::to_string(lo).substr(0, 8) +
-                         " to " + std::to_string(hi).substr(0, 8) + ", got '" + text + "'");
+    if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+        char range[64];
+        std::snprintf(range, sizeof range, "%g to %g", lo, hi);
+        throw UsageError(option + " expects a number from " + range + ", got '" + text + "'");
+    }
     return v;
 }
 
@@ -214,6 +219,13 @@ int cmdConvert(const Args& a, bool renderOnly) {
     const std::string out = requireOutput(a);
     gm::WriteOptions wo;
     wo.compact = a.flags.count("--compact") > 0;
+    if (auto it = a.values.find("--compact-level"); it != a.values.end()) {
+        const double level = parseNumber("--compact-level", it->second, 0, gm::kGmbMaxCompactLevel);
+        if (level != std::floor(level))
+            throw UsageError("--compact-level expects a whole number, got '" + it->second + "'");
+        wo.compact = true;
+        wo.compactLevel = static_cast<int>(level);
+    }
     wo.legacy = a.flags.count("--legacy") > 0;
     wo.textShading = a.flags.count("--text-shading") > 0;
     if (auto it = a.values.find("--svg-colors"); it != a.values.end()) {
@@ -384,6 +396,7 @@ int main(int argc, char** argv) {
         if (command == "convert" || command == "render") {
             std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance",
                                             "--scale", "--background", "--mesh-lines"};
+            if (command == "convert") valued.insert("--compact-level");
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
             std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
             if (command == "convert") flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());

@@ -3,6 +3,7 @@
 // option) and the problem, and leave neither an output nor a temporary file behind. Inputs are
 // generated here with the project's raster writer; corrupt files are made from written ones.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -272,6 +273,54 @@ TEST_CASE("options --max-patches, --colors and --max-error are honoured and repo
     CHECK(entries(d) == std::set<std::string>{"blob.png", "small.gmb", "small.json"});
 }
 
+TEST_CASE("compact levels: coarser .gmb files are smaller and report their own error",
+          "[cli_convert]") {
+    const fs::path d = tmpDir("compactlevel");
+    // A textured object: many patches, so that coarser grids show in the size.
+    gm::RgbaImage input = blob(160, 120);
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                input.at(x, y)[c] = std::clamp(
+                    input.at(x, y)[c] + 0.08f * std::sin(0.7f * x + 1.3f * c) * std::cos(0.5f * y), 0.f, 1.f);
+    writePng(input, d / "t.png");
+    double previousBytes = 0, previousE = 0;
+    for (int level = 0; level <= 3; ++level) {
+        INFO("level " << level);
+        const std::string stem = "l" + std::to_string(level);
+        checkSuccess(gradmesh("convert " + q(d / "t.png") + " -o " + q(d / (stem + ".gmb")) +
+                                  " --compact-level " + std::to_string(level) + " --report " +
+                                  q(d / (stem + ".json")),
+                              d));
+        const std::string json = slurp(d / (stem + ".json"));
+        INFO(json);
+        CHECK(balancedJson(json));
+        const size_t at = json.find("\"compact\": {");
+        REQUIRE(at != std::string::npos);
+        CHECK(jsonNumber(json, "level", at) == level);
+        const double bytes = jsonNumber(json, "bytes", at);
+        CHECK(bytes == static_cast<double>(fs::file_size(d / (stem + ".gmb"))));
+        CHECK(jsonNumber(json, "gmb_compact", json.find("\"bytes\": {")) == bytes);
+        // The compact file's own error: a little above the mesh's, and growing with the level.
+        const double E = jsonNumber(json, "E", json.find("\"error\": {", at));
+        const double meshE = jsonNumber(json, "E", json.find("\"error\": {"));
+        CHECK(E >= meshE - 0.05);
+        CHECK(E < meshE + 1.0);
+        if (level > 0) {
+            CHECK(bytes < previousBytes);
+            CHECK(E >= previousE - 0.02);
+        }
+        previousBytes = bytes;
+        previousE = E;
+        // Any level reads back and renders.
+        checkSuccess(gradmesh("render " + q(d / (stem + ".gmb")) + " -o " + q(d / (stem + ".png")), d));
+    }
+    // The level is a convert option for mesh outputs; render has none.
+    const Run r = gradmesh("render " + q(d / "l0.gmb") + " -o " + q(d / "x.png") + " --compact-level 1", d);
+    CHECK(r.code == 2);
+    CHECK_FALSE(fs::exists(d / "x.png"));
+}
+
 TEST_CASE("a separate --mask selects the object of an opaque image", "[cli_convert]") {
     const fs::path d = tmpDir("mask");
     writePng(opaqueRamp(120, 100), d / "ramp.png");
@@ -450,6 +499,8 @@ TEST_CASE("bad option values are usage errors", "[cli_convert]") {
                           Case{"--max-patches 0", "--max-patches", "0"},
                           Case{"--colors bogus", "--colors", "bogus"},
                           Case{"--mask ''", "--mask", "needs a file name"},
+                          Case{"--compact-level 4", "--compact-level", "0 to 3"},
+                          Case{"--compact-level 1.5", "--compact-level", "whole number"},
                           Case{"--max-error", "--max-error", "needs a value"}}) {
         INFO(c.args);
         const Run r =

@@ -131,13 +131,16 @@ Deviation compactDeviation(const GradientMesh& a, const GradientMesh& b, bool co
     return d;
 }
 
-void requireWithinBounds(const Deviation& d) {
-    INFO("position " << d.pos << ", colour " << d.col << ", position tangent " << d.posTangent
-                     << ", colour tangent " << d.colTangent << ", knot " << d.knot);
-    CHECK(d.pos <= gm::GmbCompactBounds::position);
-    CHECK(d.col <= gm::GmbCompactBounds::color);
-    CHECK(d.posTangent <= gm::GmbCompactBounds::positionTangent);
-    CHECK(d.colTangent <= gm::GmbCompactBounds::colorTangent);
+// Within the bounds of compact level `level` (level 0: GmbCompactBounds as stated).
+void requireWithinBounds(const Deviation& d, int level = 0) {
+    const gm::GmbCompactShifts k = gm::gmbCompactShifts(level);
+    INFO("level " << level << ": position " << d.pos << ", colour " << d.col
+                  << ", position tangent " << d.posTangent << ", colour tangent " << d.colTangent
+                  << ", knot " << d.knot);
+    CHECK(d.pos <= std::ldexp(gm::GmbCompactBounds::position, k.position));
+    CHECK(d.col <= std::ldexp(gm::GmbCompactBounds::color, k.color));
+    CHECK(d.posTangent <= std::ldexp(gm::GmbCompactBounds::positionTangent, k.positionTangent));
+    CHECK(d.colTangent <= std::ldexp(gm::GmbCompactBounds::colorTangent, k.colorTangent));
     CHECK(d.knot <= gm::GmbCompactBounds::knotRelative);
 }
 
@@ -337,44 +340,79 @@ TEST_CASE("compact round trip stays within the bounds on meshes of many shapes a
     CHECK(gmbtest::getLE(gm::encodeGmb(doc, false), 10, 2) == 0);
 }
 
-TEST_CASE("range-coded nodes decode by the written specification alone", "[roundtrip]") {
-    // An independent decoder written from the spec (gmb_spec_coded.h) reads every NODE the
-    // writer produces to the same numbers as the reader.
+TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the file",
+          "[roundtrip]") {
     const std::vector<GradientMesh> meshes = compactTestMeshes();
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
-    const std::string bytes = gm::encodeGmb(doc, true);
-    const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
-    for (size_t k = 0; k < doc.meshes.size(); ++k) {
-        INFO("mesh " << k);
-        const int nth = static_cast<int>(k);
-        const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", nth);
-        const gmbtest::SectionInfo node = gmbtest::findSection(bytes, "NODE", nth);
-        REQUIRE(node.codec == 0);
-        gmbtest::SpecMeshInfo info;
-        info.C = static_cast<int>(gmbtest::getLE(bytes, mesh.payload(), 4));
-        info.R = static_cast<int>(gmbtest::getLE(bytes, mesh.payload() + 4, 4));
-        info.F = (bytes[mesh.payload() + 17] & 1) ? 9 : 15;
-        for (int f = 0; f < 7; ++f)
-            info.e[f] = static_cast<int16_t>(gmbtest::getLE(bytes, mesh.payload() + 18 + 2 * f, 2));
-        const GradientMesh& m = back.meshes[k];
-        info.ku = knotIntegers(m.u, info.e[0]);
-        info.kv = knotIntegers(m.v, info.e[0]);
-        const auto q = gmbtest::specDecodeCodedNodes(
-            bytes.substr(node.payload(), static_cast<size_t>(node.stored)), info);
-        bool same = true;
-        for (int j = 0; j <= info.R; ++j)
-            for (int i = 0; i <= info.C; ++i)
-                for (int c = 0; c < info.F; ++c) {
-                    const size_t at = static_cast<size_t>(j) * (info.C + 1) + i;
-                    double x = gmbtest::specCodedValue(info, c, q[c][at], i, j);
-                    const gm::Node& n = m.node(i, j);
-                    const double y[15] = {n.pos.x,  n.pos.y,  n.posU.x, n.posU.y, n.posV.x,
-                                          n.posV.y, n.col.r,  n.col.g,  n.col.b,  n.colU.r,
-                                          n.colU.g, n.colU.b, n.colV.r, n.colV.g, n.colV.b};
-                    if (x != y[c]) same = false;
-                }
-        CHECK(same);
+    size_t previous = gm::encodeGmb(doc, true).size();
+    CHECK(gm::encodeGmb(doc, true, 0) == gm::encodeGmb(doc, true));
+    for (int level = 1; level <= gm::kGmbMaxCompactLevel; ++level) {
+        INFO("level " << level);
+        const std::string bytes = gm::encodeGmb(doc, true, level);
+        const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "coarse.gmb");
+        REQUIRE(back.meshes.size() == doc.meshes.size());
+        for (size_t k = 0; k < doc.meshes.size(); ++k) {
+            INFO("mesh " << k);
+            const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", static_cast<int>(k));
+            CHECK(bytes[mesh.payload() + 16] == 2);  // still range-coded, not float64
+            const bool rule = bytes[mesh.payload() + 17] & 1;
+            requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], !rule), level);
+            // The slit structure is exact at every level.
+            CHECK(back.meshes[k].slits.size() == doc.meshes[k].slits.size());
+        }
+        CHECK(bytes.size() < previous);
+        previous = bytes.size();
+        // Stable at its own level.
+        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+    }
+    // A lossless file ignores the level; a level outside 0..3 is refused.
+    CHECK(gm::encodeGmb(doc, false, 3) == gm::encodeGmb(doc, false));
+    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, 4), Catch::Contains("compact level 4"));
+    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, -1), Catch::Contains("compact level -1"));
+}
+
+TEST_CASE("range-coded nodes decode by the written specification alone", "[roundtrip]") {
+    // An independent decoder written from the spec (gmb_spec_coded.h) reads every NODE the
+    // writer produces to the same numbers as the reader, at the default and the coarsest level.
+    const std::vector<GradientMesh> meshes = compactTestMeshes();
+    Document doc = singleMeshDocument(meshes[0], 800, 600);
+    doc.meshes = meshes;
+    for (int level : {0, gm::kGmbMaxCompactLevel}) {
+        INFO("level " << level);
+        const std::string bytes = gm::encodeGmb(doc, true, level);
+        const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+        for (size_t k = 0; k < doc.meshes.size(); ++k) {
+            INFO("mesh " << k);
+            const int nth = static_cast<int>(k);
+            const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", nth);
+            const gmbtest::SectionInfo node = gmbtest::findSection(bytes, "NODE", nth);
+            REQUIRE(node.codec == 0);
+            gmbtest::SpecMeshInfo info;
+            info.C = static_cast<int>(gmbtest::getLE(bytes, mesh.payload(), 4));
+            info.R = static_cast<int>(gmbtest::getLE(bytes, mesh.payload() + 4, 4));
+            info.F = (bytes[mesh.payload() + 17] & 1) ? 9 : 15;
+            for (int f = 0; f < 7; ++f)
+                info.e[f] = static_cast<int16_t>(gmbtest::getLE(bytes, mesh.payload() + 18 + 2 * f, 2));
+            const GradientMesh& m = back.meshes[k];
+            info.ku = knotIntegers(m.u, info.e[0]);
+            info.kv = knotIntegers(m.v, info.e[0]);
+            const auto q = gmbtest::specDecodeCodedNodes(
+                bytes.substr(node.payload(), static_cast<size_t>(node.stored)), info);
+            bool same = true;
+            for (int j = 0; j <= info.R; ++j)
+                for (int i = 0; i <= info.C; ++i)
+                    for (int c = 0; c < info.F; ++c) {
+                        const size_t at = static_cast<size_t>(j) * (info.C + 1) + i;
+                        double x = gmbtest::specCodedValue(info, c, q[c][at], i, j);
+                        const gm::Node& n = m.node(i, j);
+                        const double y[15] = {n.pos.x,  n.pos.y,  n.posU.x, n.posU.y, n.posV.x,
+                                              n.posV.y, n.col.r,  n.col.g,  n.col.b,  n.colU.r,
+                                              n.colU.g, n.colU.b, n.colV.r, n.colV.g, n.colV.b};
+                        if (x != y[c]) same = false;
+                    }
+            CHECK(same);
+        }
     }
 }
 

@@ -174,9 +174,9 @@ public:
                 for (const GradientMesh& m : doc.meshes)
                     for (GradientMesh& piece : splitIntoLegacyMeshes(m))
                         pieces.meshes.push_back(std::move(piece));
-                bytes = encodeGmb(pieces, options.compact);
+                bytes = encodeGmb(pieces, options.compact, options.compactLevel);
             } else {
-                bytes = encodeGmb(doc, options.compact);
+                bytes = encodeGmb(doc, options.compact, options.compactLevel);
             }
         } catch (const Error& e) {
             if (!e.file().empty()) throw;

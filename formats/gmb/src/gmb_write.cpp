@@ -126,18 +126,19 @@ int binaryExponent(double x) {
 // The exponents that meet GmbCompactBounds (gmb.h explains the bounds). Derivatives are stored
 // as tangents, derivative × span of their node (gmb_format.cpp, encoding 2), so their grid is
 // in pixels and 0–1 colour units whatever the knot scale.
-void chooseExponents(const GradientMesh& m, int (&e)[kFieldCount]) {
+void chooseExponents(const GradientMesh& m, const GmbCompactShifts& shift, int (&e)[kFieldCount]) {
     double minStep = std::numeric_limits<double>::infinity();
     for (size_t i = 1; i < m.u.size(); ++i) minStep = std::min(minStep, m.u[i] - m.u[i - 1]);
     for (size_t j = 1; j < m.v.size(); ++j) minStep = std::min(minStep, m.v[j] - m.v[j - 1]);
     // 2^(p-1) <= smallest interval, so the knot grid is at most 2^-21 of it.
     e[kKnot] = binaryExponent(minStep) - 22;
-    e[kPos] = -5;   // 1/32 px grid: error <= 1/64 px
-    e[kCol] = -8;   // 1/256 grid: error <= 1/512 < 0.5/255
-    e[kPosU] = -3;  // tangents on a 1/8 px grid: error <= 1/16 px
-    e[kPosV] = -3;
-    e[kColU] = -7;  // colour tangents on a 1/128 grid: error <= 1/256
-    e[kColV] = -7;
+    // Level 0: positions on a 1/32 px grid (error <= 1/64 px), colours on 1/256 (error <= 1/512
+    // < 0.5/255), position tangents on 1/8 px (error <= 1/16 px), colour tangents on 1/128
+    // (error <= 1/256); coarser levels shift each grid.
+    e[kPos] = -5 + shift.position;
+    e[kCol] = -8 + shift.color;
+    e[kPosU] = e[kPosV] = -3 + shift.positionTangent;
+    e[kColU] = e[kColV] = -7 + shift.colorTangent;
 }
 
 // The larger knot interval next to each knot (what a node's derivative is scaled by in the
@@ -154,8 +155,11 @@ std::vector<double> neighbouringIntervals(const std::vector<double>& k) {
 // Quantises the values of one mesh for encoding 2 and checks every one against its bound.
 class CodedQuantizer {
 public:
-    CodedQuantizer(const GradientMesh& m, const int (&e)[kFieldCount], const CodedGrid& g)
+    CodedQuantizer(const GradientMesh& m, const int (&e)[kFieldCount], const CodedGrid& g,
+                   const GmbCompactShifts& shift)
         : e_(e),
+          positionTangentBound_(std::ldexp(GmbCompactBounds::positionTangent, shift.positionTangent)),
+          colorTangentBound_(std::ldexp(GmbCompactBounds::colorTangent, shift.colorTangent)),
           g_(g),
           intervalU_(neighbouringIntervals(m.u)),
           intervalV_(neighbouringIntervals(m.v)) {}
@@ -189,22 +193,22 @@ private:
         const double y = std::ldexp(x * static_cast<double>(span), e_[kKnot] - e_[f]);
         if (!(std::fabs(y) <= 4503599627370496.0)) return false;  // 2^52
         q = static_cast<int64_t>(std::llround(y));
-        const double bound = (f == kPosU || f == kPosV) ? GmbCompactBounds::positionTangent
-                                                        : GmbCompactBounds::colorTangent;
+        const double bound = (f == kPosU || f == kPosV) ? positionTangentBound_ : colorTangentBound_;
         const double back = codedDerivative(q, e_[f] - e_[kKnot], span);
         return std::fabs(x - back) * interval <= bound;
     }
 
     const int (&e_)[kFieldCount];
+    double positionTangentBound_, colorTangentBound_;
     const CodedGrid& g_;
     std::vector<double> intervalU_, intervalV_;
 };
 
 // Encoding 2. False when some value does not fit the quantised grid (enormous coordinates,
 // degenerate knot spacing); the caller then writes the mesh as float64, always within bounds.
-bool encodeCoded(const GradientMesh& m, bool byRule, MeshPayloads& p) {
+bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
     int e[kFieldCount];
-    chooseExponents(m, e);
+    chooseExponents(m, shift, e);
     for (int x : e)
         if (x < -kMaxExponent || x > kMaxExponent) return false;
     if (!codedExponentProblem(e).empty()) return false;
@@ -234,7 +238,7 @@ bool encodeCoded(const GradientMesh& m, bool byRule, MeshPayloads& p) {
     }
     g.spanU = localSpans(g.knotU);
     g.spanV = localSpans(g.knotV);
-    const CodedQuantizer quant(m, e, g);
+    const CodedQuantizer quant(m, e, g, shift);
 
     const size_t n = m.nodes.size();
     g.planes.resize(static_cast<size_t>(F) * n);
@@ -298,7 +302,20 @@ bool encodeCoded(const GradientMesh& m, bool byRule, MeshPayloads& p) {
 
 }  // namespace
 
-std::string encodeGmb(const Document& doc, bool compact) {
+GmbCompactShifts gmbCompactShifts(int level) {
+    switch (level) {
+        case 0: return {0, 0, 0, 0};
+        case 1: return {1, 0, 1, 1};
+        case 2: return {2, 1, 3, 3};
+        case 3: return {3, 2, 3, 4};
+        default:
+            throw Error("compact level " + std::to_string(level) + " is not one of 0 to " +
+                        std::to_string(kGmbMaxCompactLevel));
+    }
+}
+
+std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
+    const GmbCompactShifts shift = gmbCompactShifts(compact ? compactLevel : 0);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
     if (doc.meshes.size() > UINT32_MAX) throw Error("too many meshes for a .gmb file");
@@ -307,7 +324,7 @@ std::string encodeGmb(const Document& doc, bool compact) {
     bool coded = false;
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         const GradientMesh& m = doc.meshes[k];
-        if (!compact || !encodeCoded(m, followsColorRule(m), meshes[k]))
+        if (!compact || !encodeCoded(m, followsColorRule(m), shift, meshes[k]))
             meshes[k] = encodeFloat64(m);
         coded = coded || meshes[k].coded;
     }

@@ -28,6 +28,7 @@ struct ReadOptions {
 
 struct WriteOptions {
     bool compact = false;             // .gmb: quantised + compressed
+    int compactLevel = 0;             // .gmb compact: coarser grids, 0–3 (gmb.h, GmbCompactShifts)
     bool legacy = false;              // write every mesh as its hole-free pieces
     std::string svgColors = "exact";  // SVG: "exact" (k×k subdivision) or "editable" (bicubic)
     double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
