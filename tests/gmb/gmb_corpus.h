@@ -1,12 +1,13 @@
-// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 and 1.1 and
-// the malformed corpus, each with the message its reading must produce. Only IEEE-exact
+// The deterministic documents behind tests/data/gmb: golden files of versions 1.0, 1.1 and 1.2
+// and the malformed corpus, each with the message its reading must produce. Only IEEE-exact
 // arithmetic (no libm calls but exact ones: frexp, ldexp, llround), so that the same bytes come
 // out on every platform.
 //
 // To regenerate after a deliberate format change (then bump the version and keep the old files):
 //   build-gmb/tests/gmb/test_gmb "[.generate]"
 // The golden files of earlier versions are not regenerated (today's writer writes the newest
-// version); the malformed cases built from a compressed 1.0 section read golden-1.0-compact.gmb.
+// version); the malformed cases built from a compressed 1.0 section read golden-1.0-compact.gmb,
+// those built from a 1.1 NODE of encoding 2 read golden-1.1-compact.gmb.
 #pragma once
 
 #include <cmath>
@@ -182,12 +183,70 @@ inline gm::Document goldenCompact11Rule() {
     return d;
 }
 
+// For a 1.2 file that mixes: goldenCompact11Rule's two meshes (mesh 1 by the rule), a mesh the
+// compact writer must keep as float64 (a coordinate beyond the quantised range), and mesh 1
+// again: CMSH (2 meshes), MESH KNOT NODE, CMSH (1 mesh).
+inline gm::Document goldenMixed12() {
+    gm::Document d = goldenCompact11Rule();
+    gm::GradientMesh far = goldenLossless().meshes[1];
+    far.node(2, 1).pos.x = 1e20;
+    d.meshes.push_back(far);
+    d.meshes.push_back(d.meshes[1]);
+    return d;
+}
+
 // A file with one section's payload replaced (sizes and CRC follow; stored, codec 0).
 inline std::string withPayload(const std::string& file, const std::string& tag, int nth,
                                const std::string& payload) {
     const SectionInfo i = findSection(file, tag, nth);
     const std::string head = file.substr(i.offset, 4);
     return file.substr(0, i.offset) + section(head, payload, i.flags, 0) + file.substr(i.end());
+}
+
+// Every mesh record of every CMSH section of a file, in order (spec decoding).
+inline std::vector<SpecCmshMesh> cmshRecords(const std::string& file) {
+    std::vector<SpecCmshMesh> out;
+    for (const SectionInfo& i : listSections(file)) {
+        if (i.tag != "CMSH") continue;
+        for (SpecCmshMesh& m : specDecodeCmsh(file.substr(i.payload(), static_cast<size_t>(i.stored))))
+            out.push_back(std::move(m));
+    }
+    return out;
+}
+
+// The same file in the 1.1 layout: each CMSH mesh record as MESH, KNOT, NODE (every plane's
+// weights stated, the same range-coded stream), SLIT and TANG sections, all stored. It holds the
+// same document, so its size is what the 1.1 layout costs for the very same data.
+inline std::string cmshAs11(const std::string& file) {
+    std::string s = fileHeader(1, 1);
+    for (const SectionInfo& i : listSections(file)) {
+        const std::string payload = file.substr(i.payload(), static_cast<size_t>(i.stored));
+        if (i.tag != "CMSH") {
+            s += file.substr(i.offset, i.end() - i.offset);
+            continue;
+        }
+        for (const SpecCmshMesh& m : specDecodeCmsh(payload)) {
+            std::string mesh;
+            for (int x : {m.info.C, m.info.R, m.slits, m.tangents}) putLE(mesh, static_cast<uint32_t>(x), 4);
+            mesh.push_back(2);
+            mesh.push_back(m.byRule ? 1 : 0);
+            for (int f = 0; f < 7; ++f) putLE(mesh, static_cast<uint16_t>(m.info.e[f]), 2);
+            std::string node;
+            for (int o = 0; o < m.info.F; ++o) {
+                const int c = kSpecOrder[o];
+                putSvarint(node, m.weights.a[c]);
+                if (kSpecValueOf[c] < 0) putSvarint(node, m.weights.b[c]);
+                putSvarint(node, m.weights.s[c]);
+            }
+            node += payload.substr(m.streamAt, m.slitsAt - m.streamAt);
+            s += section("MESH", mesh);
+            s += section("KNOT", payload.substr(m.knotsAt, m.weightsAt - m.knotsAt));
+            s += section("NODE", node);
+            if (m.slits) s += section("SLIT", payload.substr(m.slitsAt, m.tangentsAt - m.slitsAt));
+            if (m.tangents) s += section("TANG", payload.substr(m.tangentsAt, m.end - m.tangentsAt));
+        }
+    }
+    return s;
 }
 
 // A newer minor (1.1) file: DOCU and MESH carry appended fields and an unknown optional
@@ -220,7 +279,9 @@ inline std::vector<Malformed> malformedCorpus() {
     // Version 1.0 compact, the compressed sections of which the compressed-* cases edit.
     const std::string compact =
         readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.0-compact.gmb");
-    const std::string coded = gm::encodeGmb(goldenCompact11(), true);
+    // Version 1.1 (encoding 2 in MESH KNOT NODE), which the writer no longer writes.
+    const std::string coded =
+        readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.1-compact.gmb");
     auto edit = [&](const std::string& base, const std::string& tag, int nth, size_t at,
                     uint64_t value, int width) {
         std::string s = base;
@@ -372,6 +433,104 @@ inline std::vector<Malformed> malformedCorpus() {
         out.push_back({"coded-value-out-of-range.gmb",
                        withPayload(coded, "NODE", 1, std::string(35, '\0') + huge.finish()),
                        "quantised value out of range"});
+    }
+
+    // CMSH sections (version 1.2). The golden document is one CMSH of two meshes: mesh 0 is 5x4
+    // with a slit and two tangent breaks, mesh 1 is 2x1 (in `rule`, with colour derivatives
+    // omitted: 9 planes); the payload is rebuilt around the parts the spec decoder locates.
+    const std::string cmsh = gm::encodeGmb(goldenCompact11(), true);
+    const std::string rule = gm::encodeGmb(goldenCompact11Rule(), true);
+    auto cmshPayload = [](const std::string& file) {
+        const SectionInfo i = findSection(file, "CMSH");
+        return file.substr(i.payload(), static_cast<size_t>(i.stored));
+    };
+    const std::string payload = cmshPayload(cmsh), rulePayload = cmshPayload(rule);
+    const std::vector<SpecCmshMesh> records = specDecodeCmsh(payload),
+                                    ruleRecords = specDecodeCmsh(rulePayload);
+    auto withCmsh = [&](const std::string& base, const std::string& p) {
+        return withPayload(base, "CMSH", 0, p);
+    };
+    auto varint = [](uint64_t x) {
+        std::string v;
+        while (x >= 0x80) {
+            v.push_back(static_cast<char>((x & 0x7f) | 0x80));
+            x >>= 7;
+        }
+        v.push_back(static_cast<char>(x));
+        return v;
+    };
+    {
+        std::string s = cmsh;
+        setLE(s, 10, 1, 2);
+        out.push_back({"cmsh-in-version-1.1.gmb", s, "section CMSH needs format version 1.2 (the file says 1.1)"});
+    }
+    out.push_back({"cmsh-compressed.gmb", edit(cmsh, "CMSH", 0, 5, 2, 1),
+                   "section CMSH must be stored (codec 0), not codec 2"});
+    out.push_back({"cmsh-no-mesh.gmb", withCmsh(cmsh, varint(0) + payload.substr(1)),
+                   "a CMSH section holds no mesh"});
+    out.push_back({"cmsh-more-meshes-than-declared.gmb", withCmsh(cmsh, varint(3) + payload.substr(1)),
+                   "CMSH holds 3 meshes, but the document has only 2 more"});
+    out.push_back({"cmsh-fewer-meshes-than-declared.gmb",
+                   withCmsh(cmsh, varint(1) + payload.substr(1, records[1].start - 1)),
+                   "section END  out of place: expected MESH or CMSH"});
+    // 25 meshes declared (DOCU too): 16 bytes each at least, more than the payload holds.
+    out.push_back({"cmsh-records-beyond-payload.gmb",
+                   withCmsh(edit(cmsh, "DOCU", 0, 32, 25, 4), varint(25) + payload.substr(1)),
+                   "truncated: 400 bytes needed for 25 mesh records"});
+    {
+        std::string p = payload;
+        p[2] = 80;  // e_posU (zigzag 80: 40), against e_pos -5 and e_knot
+        out.push_back({"cmsh-exponent-out-of-range.gmb", withCmsh(cmsh, p),
+                       "derivative quantisation exponent 40 out of range"});
+    }
+    {
+        std::string p = payload;
+        p[records[0].start + 4] = 2;
+        out.push_back({"cmsh-unknown-flags.gmb", withCmsh(cmsh, p), "unknown mesh flags 2 in section CMSH (mesh 0)"});
+    }
+    {
+        // Mesh 1 cut in the middle of a varint: after its first knot, a knot step whose every
+        // byte says "more follows".
+        size_t step = records[1].knotsAt;
+        while (payload[step] & 0x80) ++step;
+        out.push_back({"cmsh-truncated-varint.gmb",
+                       withCmsh(cmsh, payload.substr(0, step + 1) + std::string(9, '\x80')),
+                       "truncated: 1 bytes needed for a varint, 0 remain in section CMSH (mesh 1)"});
+    }
+    out.push_back({"cmsh-truncated-stream.gmb", withCmsh(cmsh, payload.substr(0, payload.size() - 2)),
+                   "truncated"});
+    out.push_back({"cmsh-trailing-bytes.gmb", withCmsh(cmsh, payload + std::string(3, '\0')),
+                   "3 unexpected bytes at the end of the CMSH payload"});
+    // Counts the remaining bytes cannot hold: 60000 columns of knots in a few bytes; eight
+    // tangent breaks of mesh 1 where the payload ends.
+    out.push_back({"cmsh-knots-beyond-payload.gmb",
+                   withCmsh(cmsh, payload.substr(0, records[1].start) + varint(60000) +
+                                      payload.substr(records[1].start + 1)),
+                   "truncated: 60003 bytes needed for the knots"});
+    {
+        std::string p = payload;
+        p[records[1].start + 3] = 8;
+        out.push_back({"cmsh-tangents-beyond-payload.gmb", withCmsh(cmsh, p),
+                       "truncated: 64 bytes needed for the tangent breaks, 0 remain in section CMSH (mesh 1)"});
+    }
+    out.push_back({"cmsh-grid-beyond-limit.gmb",
+                   withCmsh(cmsh, payload.substr(0, records[1].start) + varint(100000) +
+                                      payload.substr(records[1].start + 1)),
+                   "grid 100000x1 exceeds the limit of 65536 columns or rows in section CMSH (mesh 1)"});
+    // Weights: a mask naming a 10th plane of a mesh of 9; a stated weight out of range.
+    out.push_back({"cmsh-weights-mask-beyond-planes.gmb",
+                   withCmsh(rule, rulePayload.substr(0, ruleRecords[1].weightsAt) + varint(1 << 9) +
+                                      rulePayload.substr(ruleRecords[1].streamAt)),
+                   "weights mask 512 names planes beyond the 9 of this mesh"});
+    {
+        std::string weights = varint(1);  // pos.x stated: a = 256 + 40000
+        putSvarint(weights, 40000);
+        putSvarint(weights, 0);
+        putSvarint(weights, 0);
+        out.push_back({"cmsh-weight-out-of-range.gmb",
+                       withCmsh(cmsh, payload.substr(0, records[1].weightsAt) + weights +
+                                          payload.substr(records[1].streamAt)),
+                       "plane weight 40256 out of range in section CMSH (mesh 1)"});
     }
     return out;
 }

@@ -84,31 +84,54 @@ TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]
     }
 }
 
-TEST_CASE("damaged range-coded nodes give an error or a valid document", "[malformed]") {
-    // Bytes of a range-coded NODE changed behind a recomputed CRC: whatever they decode to,
-    // the reader ends in a gm::Error naming the file or in a document that passes validation.
-    const std::string good = gm::encodeGmb(gmbtest::goldenCompact11(), true);
-    const gmbtest::SectionInfo node = gmbtest::findSection(good, "NODE");
+namespace {
+
+// Bytes [begin, end) of the section at `sectionOffset` changed at random behind a recomputed CRC,
+// 300 times: whatever they decode to, the reader ends in a gm::Error naming the file (and, in the
+// message, one of `expected`) or in a document that passes validation. Returns the errors.
+int damageRandomly(const std::string& good, size_t sectionOffset, size_t begin, size_t end,
+                   const std::vector<std::string>& expected) {
     std::mt19937 rng(5);
     int errors = 0;
     for (int round = 0; round < 300; ++round) {
         std::string s = good;
         const int changes = 1 + round % 4;
         for (int k = 0; k < changes; ++k) {
-            const size_t at = node.payload() + rng() % static_cast<size_t>(node.stored);
+            const size_t at = begin + rng() % (end - begin);
             s[at] = static_cast<char>(s[at] ^ (1 + rng() % 255));
         }
-        gmbtest::fixCrc(s, node.offset);
+        gmbtest::fixCrc(s, sectionOffset);
         try {
             const gm::Document d = gm::decodeGmb(s, gm::ReadLimits{}, "damaged.gmb");
             CHECK(gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{}) == d);
         } catch (const gm::Error& e) {
             CHECK(e.file() == "damaged.gmb");
-            CHECK_THAT(e.what(), Contains("NODE"));
+            const std::string what = e.what();
+            INFO(what);
+            CHECK(std::any_of(expected.begin(), expected.end(),
+                              [&](const std::string& x) { return what.find(x) != std::string::npos; }));
             ++errors;
         }
     }
-    CHECK(errors > 0);
+    return errors;
+}
+
+}  // namespace
+
+TEST_CASE("damaged range-coded nodes give an error or a valid document", "[malformed]") {
+    // A NODE of encoding 2 (version 1.1).
+    const std::string v11 = gmbtest::readFile(kDir + "golden-1.1-compact.gmb");
+    const gmbtest::SectionInfo node = gmbtest::findSection(v11, "NODE");
+    CHECK(damageRandomly(v11, node.offset, node.payload(), node.end() - 4, {"NODE"}) > 0);
+    // The mesh records of a CMSH section (version 1.2), from mesh 0's plane weights on: a
+    // damaged stream of mesh 0 also moves where its slit and mesh 1 begin, so the error may
+    // come from a check of the decoded mesh ("mesh 0: ...").
+    const std::string v12 = gm::encodeGmb(gmbtest::goldenCompact11(), true);
+    const gmbtest::SectionInfo cmsh = gmbtest::findSection(v12, "CMSH");
+    const auto records =
+        gmbtest::specDecodeCmsh(v12.substr(cmsh.payload(), static_cast<size_t>(cmsh.stored)));
+    CHECK(damageRandomly(v12, cmsh.offset, cmsh.payload() + records[0].weightsAt, cmsh.end() - 4,
+                         {"CMSH", "mesh 0: ", "mesh 1: "}) > 0);
 }
 
 TEST_CASE("counts that would need terabytes are refused before allocating", "[malformed]") {
@@ -155,7 +178,19 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
         big.meshes[0].nodes[k].pos = {double(k % 301) / 3, double(k / 301) / 3};
     const std::string bomb = gm::encodeGmb(big, true);
     CHECK(bomb.size() < 20000);
+    REQUIRE(gmbtest::findSection(bomb, "CMSH").stored > 0);
     CHECK_THAT(decodeError(bomb, budget), Contains("decoded data would exceed the limit of 100000 bytes"));
+    // A CMSH record of 4000x4000 patches (9 planes: 144 M values) with its 8002 knots but a
+    // 5-byte stream: such a stream cannot hold that many values (each costs a fraction of a
+    // bit, never less than 1/11730 byte), so the 1.2 GB of planes are never allocated.
+    std::string payload("\x01\x09\x05\x05\x0f\x0d\x0d", 7);  // M, shared exponents
+    payload += std::string("\xa0\x1f\xa0\x1f\x00\x00\x01\x2b", 8);  // C, R, 0, 0, rule, e_knot -22
+    for (int k = 0; k < 2; ++k) payload += std::string(1, '\0') + std::string(4000, '\x01');
+    payload += std::string(6, '\0');  // weights mask, stream
+    std::string huge4000 = gmbtest::fileHeader(1, 2) + gmbtest::section("DOCU", std::string("\x64\0\0\0\x64\0\0\0\x01\0\0\0", 12)) +
+                           gmbtest::section("CMSH", payload) + gmbtest::section("END ", "");
+    CHECK_THAT(decodeError(huge4000), Contains("truncated: 8793 bytes needed for the range-coded nodes") &&
+                                          Contains("CMSH (mesh 0)"));
     CHECK_THAT(decodeError(edit("DOCU", 32, 0xffffffffu, 4), huge), Contains("meshes but only"));
 }
 

@@ -6,8 +6,7 @@
 #include <random>
 
 #include "formats/gmb.h"
-#include "gmb_spec_coded.h"
-#include "gmb_test_support.h"
+#include "gmb_corpus.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/split_legacy.h"
@@ -236,9 +235,11 @@ TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") 
     GradientMesh smooth = gm::makeCurvedMesh(6, 5, 16, 16, 200, 160, 1.0, 8);
     both.meshes.insert(both.meshes.begin(), smooth);
     const std::string mixed = gm::encodeGmb(both, true);
-    CHECK(gmbtest::getLE(mixed, 10, 2) == 1);
-    CHECK(mixed[gmbtest::findSection(mixed, "MESH", 0).payload() + 16] == 2);
-    CHECK(mixed[gmbtest::findSection(mixed, "MESH", 1).payload() + 16] == 0);
+    CHECK(gmbtest::getLE(mixed, 10, 2) == 2);  // a CMSH section: version 1.2
+    CHECK(gmbtest::listSections(mixed)[1].tag == "CMSH");
+    CHECK(gmbtest::cmshRecords(mixed).size() == 1);
+    CHECK(mixed[gmbtest::findSection(mixed, "MESH", 0).payload() + 16] == 0);  // float64
+    CHECK(gmbtest::findSection(mixed, "MESH", 1).tag.empty());
     const Document mixedBack = gm::decodeGmb(mixed, gm::ReadLimits{});
     REQUIRE(mixedBack.meshes[1] == doc.meshes[0]);
     requireWithinBounds(compactDeviation(smooth, mixedBack.meshes[0], true));
@@ -323,14 +324,16 @@ TEST_CASE("compact round trip stays within the bounds on meshes of many shapes a
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
     const std::string bytes = gm::encodeGmb(doc, true);
-    CHECK(gmbtest::getLE(bytes, 10, 2) == 1);  // version 1.1
+    CHECK(gmbtest::getLE(bytes, 10, 2) == 2);  // version 1.2
     const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "compact.gmb");
     REQUIRE(back.meshes.size() == doc.meshes.size());
+    // Every one range-coded, in one CMSH section.
+    const auto records = gmbtest::cmshRecords(bytes);
+    REQUIRE(records.size() == doc.meshes.size());
+    CHECK(gmbtest::listSections(bytes).size() == 3);
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         INFO("mesh " << k);
-        const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", static_cast<int>(k));
-        CHECK(bytes[mesh.payload() + 16] == 2);  // every one range-coded
-        const bool rule = bytes[mesh.payload() + 17] & 1;
+        const bool rule = records[k].byRule;
         CHECK(rule == gm::followsColorRule(doc.meshes[k]));
         requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], !rule));
     }
@@ -352,11 +355,11 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
         const std::string bytes = gm::encodeGmb(doc, true, level);
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "coarse.gmb");
         REQUIRE(back.meshes.size() == doc.meshes.size());
+        const auto records = gmbtest::cmshRecords(bytes);
+        REQUIRE(records.size() == doc.meshes.size());  // still range-coded, not float64
         for (size_t k = 0; k < doc.meshes.size(); ++k) {
             INFO("mesh " << k);
-            const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", static_cast<int>(k));
-            CHECK(bytes[mesh.payload() + 16] == 2);  // still range-coded, not float64
-            const bool rule = bytes[mesh.payload() + 17] & 1;
+            const bool rule = records[k].byRule;
             requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], !rule), level);
             // The slit structure is exact at every level.
             CHECK(back.meshes[k].slits.size() == doc.meshes[k].slits.size());
@@ -372,22 +375,55 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
     CHECK_THROWS_WITH(gm::encodeGmb(doc, true, -1), Catch::Contains("compact level -1"));
 }
 
-TEST_CASE("range-coded nodes decode by the written specification alone", "[roundtrip]") {
-    // An independent decoder written from the spec (gmb_spec_coded.h) reads every NODE the
-    // writer produces to the same numbers as the reader, at the default and the coarsest level.
+TEST_CASE("compact meshes decode by the written specification alone", "[roundtrip]") {
+    // An independent decoder written from the spec (gmb_spec_coded.h) reads every CMSH mesh
+    // record the writer produces, knots and nodes, to the same numbers as the reader, at every
+    // level.
     const std::vector<GradientMesh> meshes = compactTestMeshes();
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
-    for (int level : {0, gm::kGmbMaxCompactLevel}) {
+    for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
         INFO("level " << level);
         const std::string bytes = gm::encodeGmb(doc, true, level);
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+        const auto records = gmbtest::cmshRecords(bytes);
+        REQUIRE(records.size() == doc.meshes.size());
         for (size_t k = 0; k < doc.meshes.size(); ++k) {
             INFO("mesh " << k);
+            const gmbtest::SpecCmshMesh& r = records[k];
+            const gmbtest::SpecMeshInfo& info = r.info;
+            const GradientMesh& m = back.meshes[k];
+            REQUIRE(info.C == m.columns());
+            REQUIRE(info.R == m.rows());
+            CHECK(r.slits == static_cast<int>(m.slits.size()));
+            CHECK(r.tangents == static_cast<int>(m.tangents.size()));
+            // Knots: q · 2^e_knot.
+            CHECK(knotIntegers(m.u, info.e[0]) == info.ku);
+            CHECK(knotIntegers(m.v, info.e[0]) == info.kv);
+            bool same = true;
+            for (int j = 0; j <= info.R; ++j)
+                for (int i = 0; i <= info.C; ++i)
+                    for (int c = 0; c < info.F; ++c) {
+                        const size_t at = static_cast<size_t>(j) * (info.C + 1) + i;
+                        if (gmbtest::specCodedValue(info, c, r.q[c][at], i, j) !=
+                            gmbtest::nodeValue(m.node(i, j), c))
+                            same = false;
+                    }
+            CHECK(same);
+        }
+    }
+}
+
+TEST_CASE("1.1 range-coded nodes still decode by the written specification alone", "[roundtrip]") {
+    // The NODE sections of the 1.1 golden files (encoding 2, every plane's weights stated).
+    for (const char* name : {"golden-1.1-compact.gmb", "golden-1.1-compact-rule.gmb"}) {
+        INFO(name);
+        const std::string bytes = gmbtest::readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/" + name);
+        const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+        for (size_t k = 0; k < back.meshes.size(); ++k) {
             const int nth = static_cast<int>(k);
             const gmbtest::SectionInfo mesh = gmbtest::findSection(bytes, "MESH", nth);
             const gmbtest::SectionInfo node = gmbtest::findSection(bytes, "NODE", nth);
-            REQUIRE(node.codec == 0);
             gmbtest::SpecMeshInfo info;
             info.C = static_cast<int>(gmbtest::getLE(bytes, mesh.payload(), 4));
             info.R = static_cast<int>(gmbtest::getLE(bytes, mesh.payload() + 4, 4));
@@ -399,20 +435,76 @@ TEST_CASE("range-coded nodes decode by the written specification alone", "[round
             info.kv = knotIntegers(m.v, info.e[0]);
             const auto q = gmbtest::specDecodeCodedNodes(
                 bytes.substr(node.payload(), static_cast<size_t>(node.stored)), info);
-            bool same = true;
-            for (int j = 0; j <= info.R; ++j)
-                for (int i = 0; i <= info.C; ++i)
-                    for (int c = 0; c < info.F; ++c) {
-                        const size_t at = static_cast<size_t>(j) * (info.C + 1) + i;
-                        double x = gmbtest::specCodedValue(info, c, q[c][at], i, j);
-                        const gm::Node& n = m.node(i, j);
-                        const double y[15] = {n.pos.x,  n.pos.y,  n.posU.x, n.posU.y, n.posV.x,
-                                              n.posV.y, n.col.r,  n.col.g,  n.col.b,  n.colU.r,
-                                              n.colU.g, n.colU.b, n.colV.r, n.colV.g, n.colV.b};
-                        if (x != y[c]) same = false;
-                    }
-            CHECK(same);
+            for (int c = 0; c < info.F; ++c)
+                for (size_t at = 0; at < m.nodes.size(); ++at) {
+                    const int i = static_cast<int>(at % (info.C + 1)), j = static_cast<int>(at / (info.C + 1));
+                    CHECK(gmbtest::specCodedValue(info, c, q[c][at], i, j) ==
+                          gmbtest::nodeValue(m.nodes[at], c));
+                }
         }
+    }
+}
+
+TEST_CASE("CMSH holds what the 1.1 sections held, in far fewer bytes for small meshes",
+          "[roundtrip]") {
+    // 15 meshes of 2x3 patches (a whole image cut into small regions): per-mesh overhead is most
+    // of a 1.1 file.
+    Document doc;
+    doc.width = 600;
+    doc.height = 400;
+    for (unsigned k = 0; k < 15; ++k) {
+        GradientMesh m = gm::makeCurvedMesh(2, 3, 40.0 * (k % 5), 100.0 * (k / 5), 100, 90, 0.5,
+                                            20 + k);
+        gmbtest::addFittingNoise(m, 60 + k);
+        if (k % 3 == 0) gm::applyColorRule(m);
+        doc.meshes.push_back(m);
+    }
+    for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
+        INFO("level " << level);
+        const std::string v12 = gm::encodeGmb(doc, true, level);
+        // The same meshes, byte for byte the same streams, in the 1.1 layout.
+        const std::string v11 = gmbtest::cmshAs11(v12);
+        const Document back = gm::decodeGmb(v12, gm::ReadLimits{});
+        REQUIRE(gm::decodeGmb(v11, gm::ReadLimits{}) == back);
+        for (size_t k = 0; k < doc.meshes.size(); ++k)
+            requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], k % 3 != 0), level);
+        const double perMesh12 = (v12.size() - 12 - 40 - 28) / 15.0;
+        WARN("15 meshes of 2x3 patches, level " << level << ": 1.1 layout " << v11.size()
+                                                << " B, 1.2 (CMSH) " << v12.size() << " B ("
+                                                << 100.0 * v12.size() / v11.size() << " %), "
+                                                << perMesh12 << " B per mesh");
+        CHECK(v12.size() * 10 < v11.size() * 7);  // at least 30 % smaller
+    }
+}
+
+TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at every level",
+          "[roundtrip]") {
+    // Slits, tangent breaks, rule colours and a float64 fallback, mesh after mesh: CMSH runs
+    // broken by a MESH section.
+    Document doc = singleMeshDocument(slitMeshWithBreaks(), 640, 480);
+    GradientMesh rule = gm::makeHoledMesh(2, 10, 10, 300, 200, 11);
+    gm::applyColorRule(rule);
+    doc.meshes.push_back(rule);
+    doc.meshes.push_back(gmbtest::randomMesh(4));  // beyond the quantised range: float64
+    for (GradientMesh& piece : gm::splitIntoLegacyMeshes(gm::makeHoledMesh(2, 10, 10, 300, 200, 9)))
+        doc.meshes.push_back(piece);
+    for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
+        INFO("level " << level);
+        const std::string bytes = gm::encodeGmb(doc, true, level);
+        std::vector<std::string> tags;
+        for (const gmbtest::SectionInfo& i : gmbtest::listSections(bytes)) tags.push_back(i.tag);
+        CHECK(tags == std::vector<std::string>{"DOCU", "CMSH", "MESH", "KNOT", "NODE", "CMSH", "END "});
+        const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+        REQUIRE(back.meshes.size() == doc.meshes.size());
+        REQUIRE(back.meshes[2] == doc.meshes[2]);
+        for (size_t k = 0; k < doc.meshes.size(); ++k) {
+            if (k == 2) continue;
+            INFO("mesh " << k);
+            requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], k != 1), level);
+        }
+        CHECK(back.meshes[1].slits.size() == 2);
+        CHECK_FALSE(back.meshes[3].tangents.empty());
+        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
     }
 }
 

@@ -1,7 +1,8 @@
-// An independent reading of the NODE payload of encoding 2 (range-coded), written from the
-// specification at the top of formats/gmb/src/gmb_format.cpp rather than from the reader: the
-// tests decode the writer's files with it (so the spec is enough to write a decoder), and build
-// range-coded payloads that the writer never produces (malformed cases).
+// An independent reading of the NODE payload of encoding 2 (range-coded) and of CMSH sections
+// (version 1.2), written from the specification at the top of formats/gmb/src/gmb_format.cpp
+// rather than from the reader: the tests decode the writer's files with it (so the spec is
+// enough to write a decoder), and build range-coded payloads that the writer never produces
+// (malformed cases).
 #pragma once
 
 #include <cmath>
@@ -206,41 +207,54 @@ inline std::vector<int64_t> specSpans(const std::vector<int64_t>& k) {
     return D;
 }
 
-// Decodes a NODE payload of encoding 2 to its q planes, indexed [component][node] in node-record
-// order. Throws std::runtime_error where the spec says the data is bad.
-inline std::vector<std::vector<int64_t>> specDecodeCodedNodes(const std::string& payload,
-                                                              const SpecMeshInfo& in) {
-    static const int order[15] = {0, 1, 7, 6, 8, 2, 3, 4, 5, 10, 9, 11, 13, 12, 14};
+// Reads varints from a byte string, throwing std::runtime_error where it ends or overflows.
+struct SpecBytes {
+    const std::string& s;
+    size_t pos = 0;
+    uint64_t varint() {
+        uint64_t z = 0;
+        for (int k = 0;; ++k) {
+            if (pos >= s.size() || k == 10) throw std::runtime_error("bad varint");
+            const auto b = static_cast<unsigned char>(s[pos++]);
+            z |= uint64_t(b & 0x7f) << (7 * k);
+            if (!(b & 0x80)) return z;
+        }
+    }
+    int64_t svarint() {
+        const uint64_t z = varint();
+        return static_cast<int64_t>((z >> 1) ^ (0 - (z & 1)));
+    }
+    int u8() {
+        if (pos >= s.size()) throw std::runtime_error("bad u8");
+        return static_cast<unsigned char>(s[pos++]);
+    }
+};
+
+// Plane weights a, b, s by node-record component.
+struct SpecWeights {
+    int64_t a[15] = {}, b[15] = {}, s[15] = {};
+};
+
+static const int kSpecOrder[15] = {0, 1, 7, 6, 8, 2, 3, 4, 5, 10, 9, 11, 13, 12, 14};
+static const int kSpecValueOf[15] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6, 7, 8, 6, 7, 8};
+
+// Decodes the range-coded stream at bytes.pos to the q planes, indexed [component][node] in
+// node-record order, leaving bytes.pos just after the stream. Throws std::runtime_error where
+// the spec says the data is bad.
+inline std::vector<std::vector<int64_t>> specDecodePlanes(SpecBytes& bytes, const SpecMeshInfo& in,
+                                                          const SpecWeights& w) {
+    const std::string& payload = bytes.s;
+    const int* order = kSpecOrder;
+    const int* valueOf = kSpecValueOf;
     static const int sibling[15] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
-    static const int valueOf[15] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6, 7, 8, 6, 7, 8};
     static const int fieldOf[15] = {1, 1, 2, 2, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6};
     const int C = in.C, R = in.R;
     const size_t n = static_cast<size_t>(C + 1) * (R + 1);
-    // Weights.
-    size_t pos = 0;
-    auto svarint = [&]() {
-        uint64_t z = 0;
-        for (int k = 0;; ++k) {
-            if (pos >= payload.size() || k == 10) throw std::runtime_error("bad weight varint");
-            const auto b = static_cast<unsigned char>(payload[pos++]);
-            z |= uint64_t(b & 0x7f) << (7 * k);
-            if (!(b & 0x80)) break;
-        }
-        return static_cast<int64_t>((z >> 1) ^ (0 - (z & 1)));
-    };
-    int64_t wa[15] = {}, wb[15] = {}, ws[15] = {};
-    for (int o = 0; o < in.F; ++o) {
-        const int c = order[o];
-        wa[c] = svarint();
-        if (valueOf[c] < 0) wb[c] = svarint();
-        ws[c] = svarint();
-        for (int64_t w : {wa[c], wb[c], ws[c]})
-            if (w > 32768 || w < -32768) throw std::runtime_error("weight out of range");
-    }
+    const int64_t *wa = w.a, *wb = w.b, *ws = w.s;
     const std::vector<int64_t> Du = specSpans(in.ku), Dv = specSpans(in.kv);
     std::vector<std::vector<int64_t>> q(15, std::vector<int64_t>(n, 0)),
         r(15, std::vector<int64_t>(n, 0));
-    SpecRangeDecoder dec(payload, pos);
+    SpecRangeDecoder dec(payload, bytes.pos);
     auto at = [&](int i, int j) { return static_cast<size_t>(j) * (C + 1) + i; };
     for (int o = 0; o < in.F; ++o) {
         const int c = order[o];
@@ -315,9 +329,134 @@ inline std::vector<std::vector<int64_t>> specDecodeCodedNodes(const std::string&
             }
         }
     }
-    if (dec.position() != payload.size())
-        throw std::runtime_error("bytes after the range-coded stream");
+    bytes.pos = dec.position();
     return q;
+}
+
+// Decodes a NODE payload of encoding 2 (every plane's weights, then the stream to the end).
+inline std::vector<std::vector<int64_t>> specDecodeCodedNodes(const std::string& payload,
+                                                              const SpecMeshInfo& in) {
+    SpecBytes bytes{payload};
+    SpecWeights w;
+    for (int o = 0; o < in.F; ++o) {
+        const int c = kSpecOrder[o];
+        w.a[c] = bytes.svarint();
+        if (kSpecValueOf[c] < 0) w.b[c] = bytes.svarint();
+        w.s[c] = bytes.svarint();
+        for (int64_t x : {w.a[c], w.b[c], w.s[c]})
+            if (x > 32768 || x < -32768) throw std::runtime_error("weight out of range");
+    }
+    auto q = specDecodePlanes(bytes, in, w);
+    if (bytes.pos != payload.size()) throw std::runtime_error("bytes after the range-coded stream");
+    return q;
+}
+
+// One mesh record of a CMSH section, as the spec lays it out.
+struct SpecCmshMesh {
+    SpecMeshInfo info;
+    int slits = 0, tangents = 0;
+    bool byRule = false;
+    uint64_t weightsMask = 0;
+    SpecWeights weights;                  // every plane's, defaults included
+    std::vector<std::vector<int64_t>> q;  // [component][node]
+    // Where its parts begin in the payload (`end`: the next record).
+    size_t start = 0, knotsAt = 0, weightsAt = 0, streamAt = 0, slitsAt = 0, tangentsAt = 0,
+           end = 0;
+};
+
+// The default weights of CMSH, by node-record component (the spec's table).
+inline SpecWeights specCmshDefaults() {
+    SpecWeights d;
+    for (int c = 0; c < 15; ++c) d.a[c] = 256;
+    d.b[0] = d.b[1] = -256;
+    for (int c : {6, 7, 8}) d.a[c] = 128;
+    d.s[6] = d.s[8] = 240;
+    d.a[10] = d.a[13] = 192;
+    for (int c : {9, 11, 12, 14}) {
+        d.a[c] = 224;
+        d.s[c] = 240;
+    }
+    return d;
+}
+
+// Decodes a CMSH payload: every mesh record's knots and node planes; slits and tangent breaks
+// are stepped over by their layout. Throws std::runtime_error where the spec says the data is
+// bad.
+inline std::vector<SpecCmshMesh> specDecodeCmsh(const std::string& payload) {
+    SpecBytes bytes{payload};
+    const uint64_t M = bytes.varint();
+    if (M == 0) throw std::runtime_error("no mesh");
+    int shared[7] = {};
+    for (int f = 1; f < 7; ++f) shared[f] = static_cast<int>(bytes.svarint());
+    std::vector<SpecCmshMesh> out;
+    for (uint64_t k = 0; k < M; ++k) {
+        SpecCmshMesh m;
+        m.start = bytes.pos;
+        m.info.C = static_cast<int>(bytes.varint());
+        m.info.R = static_cast<int>(bytes.varint());
+        m.slits = static_cast<int>(bytes.varint());
+        m.tangents = static_cast<int>(bytes.varint());
+        const int flags = bytes.u8();
+        if (flags > 1) throw std::runtime_error("unknown flags");
+        m.byRule = flags & 1;
+        m.info.F = m.byRule ? 9 : 15;
+        for (int f = 1; f < 7; ++f) m.info.e[f] = shared[f];
+        m.info.e[0] = static_cast<int>(bytes.svarint());
+        m.knotsAt = bytes.pos;
+        for (std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
+            const int count = (knots == &m.info.ku ? m.info.C : m.info.R) + 1;
+            int64_t q = bytes.svarint();
+            knots->push_back(q);
+            for (int i = 1; i < count; ++i) {
+                q += static_cast<int64_t>(bytes.varint());
+                knots->push_back(q);
+            }
+        }
+        m.weightsAt = bytes.pos;
+        m.weightsMask = bytes.varint();
+        if (m.weightsMask >> m.info.F) throw std::runtime_error("weights mask beyond the planes");
+        SpecWeights w = specCmshDefaults();
+        for (int o = 0; o < m.info.F; ++o) {
+            if (!((m.weightsMask >> o) & 1)) continue;
+            const int c = kSpecOrder[o];
+            w.a[c] += bytes.svarint();
+            if (kSpecValueOf[c] < 0) w.b[c] += bytes.svarint();
+            w.s[c] += bytes.svarint();
+            for (int64_t x : {w.a[c], w.b[c], w.s[c]})
+                if (x > 32768 || x < -32768) throw std::runtime_error("weight out of range");
+        }
+        m.weights = w;
+        m.streamAt = bytes.pos;
+        m.q = specDecodePlanes(bytes, m.info, w);
+        m.slitsAt = bytes.pos;
+        const int endValues = m.byRule ? 2 : 5;
+        for (int sl = 0; sl < m.slits; ++sl) {
+            bytes.varint();  // row
+            const uint64_t i0 = bytes.varint(), i1 = bytes.varint();
+            for (int x = 0; x < 2 * endValues; ++x) bytes.svarint();
+            for (uint64_t x = 0; x < (i1 - i0 - 1) * static_cast<uint64_t>(m.info.F); ++x)
+                bytes.svarint();
+        }
+        m.tangentsAt = bytes.pos;
+        for (int t = 0; t < m.tangents; ++t) {
+            bytes.varint();  // i, j, corner
+            bytes.varint();
+            bytes.u8();
+            for (int x = 0; x < endValues; ++x) bytes.svarint();
+        }
+        m.end = bytes.pos;
+        out.push_back(std::move(m));
+    }
+    if (bytes.pos != payload.size()) throw std::runtime_error("bytes after the last mesh record");
+    return out;
+}
+
+
+// Component c (node-record order) of a node.
+inline double nodeValue(const gm::Node& n, int c) {
+    const double v[15] = {n.pos.x, n.pos.y, n.posU.x, n.posU.y, n.posV.x, n.posV.y, n.col.r, n.col.g,
+                          n.col.b, n.colU.r, n.colU.g, n.colU.b, n.colV.r, n.colV.g, n.colV.b};
+    return v[c];
 }
 
 // The value of component c (node-record order) of a node in column i, row j, from its q.

@@ -1,4 +1,4 @@
-// .gmb — the native binary format of gradmesh, version 1.1. This comment is the specification.
+// .gmb — the native binary format of gradmesh, version 1.2. This comment is the specification.
 //
 // Conventions. Integers are little-endian and fixed-width unless called varint. f64 is an
 // IEEE 754 binary64 stored as its 8 bytes, little-endian. varint: unsigned LEB128, at most 10
@@ -11,11 +11,13 @@
 // Header, 12 bytes
 //    0   8  magic 89 47 4D 42 0D 0A 1A 0A ("\x89GMB\r\n\x1a\n")
 //    8   2  major version, 1. A reader refuses a major it does not know.
-//   10   2  minor version: 1 if some mesh uses encoding 2, else 0 (a writer marks the lowest
-//           version that holds the file, so lossless files remain 1.0 files). A newer minor may
-//           add optional sections, append fields to the DOCU and MESH payloads (a reader of an
-//           older minor skips both) and add mesh encodings (an older reader refuses a mesh in
-//           an encoding it does not know: 1.0 readers refuse encoding 2).
+//   10   2  minor version: 2 if the file has a CMSH section, else 1 if some MESH section says
+//           encoding 2, else 0 (a writer marks the lowest version that holds the file, so
+//           lossless files remain 1.0 files). A newer minor may add optional sections, append
+//           fields to the DOCU and MESH payloads (a reader of an older minor skips both), add
+//           mesh encodings (an older reader refuses a mesh in an encoding it does not know: 1.0
+//           readers refuse encoding 2) and add required sections (an older reader refuses the
+//           file: 1.1 readers refuse CMSH as an unknown required section).
 //
 // Section, 28 + S bytes
 //    0   4  tag, four ASCII characters
@@ -31,21 +33,24 @@
 //
 // Section order (unknown optional sections may stand between any two):
 //   DOCU                  once, first
-//   per mesh, in painting order:
+//   the meshes, in painting order, each either in its own sections:
 //     MESH KNOT NODE      always
 //     SLIT                if and only if the mesh has slits
 //     TANG                if and only if the mesh has corner tangent breaks
+//   or in a CMSH section (since 1.2), which holds a run of one or more consecutive meshes in
+//   encoding 2; a file may mix both (a writer's compact mode writes float64 MESH sections for
+//   meshes it cannot quantise)
 //   END                   once, last, empty payload
 // Every section defined by 1.x is required (flags bit 0 clear).
 //
 // DOCU payload, 12 bytes: u32 canvas width, u32 canvas height (pixels), u32 mesh count.
 // MESH payload, 32 bytes: u32 C (patch columns), u32 R (patch rows), u32 slit count,
 //   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised (1.0),
-//   2 quantised and range-coded (since 1.1); the writer's compact mode writes 2), u8 flags
-//   (bit 0: colour derivatives omitted; the reader recomputes them with applyColorRule from
-//   the decoded mesh; other bits 0, ignored by a 1.x reader), 7 × i16 exponents e for the
-//   quantised fields knot, pos, posU, posV, col, colU, colV (0 for float64), each within
-//   ±960. Encodings 1 and 2: a quantised knot, position or colour q of field f stands for
+//   2 quantised and range-coded (since 1.1; since 1.2 the writer's compact mode writes such
+//   meshes as CMSH records instead)), u8 flags (bit 0: colour derivatives omitted; the reader
+//   recomputes them with applyColorRule from the decoded mesh; other bits 0, ignored by a 1.x
+//   reader), 7 × i16 exponents e for the quantised fields knot, pos, posU, posV, col, colU,
+//   colV (0 for float64), each within ±960. Encodings 1 and 2: a quantised knot, position or colour q of field f stands for
 //   q · 2^e_f; derivatives differ (below).
 //
 // A node record has 15 components: pos.x pos.y posU.x posU.y posV.x posV.y col.r col.g col.b
@@ -129,13 +134,55 @@
 //     it is 0, V -= T and R -= T. A direct bit: R = floor(R / 2); if V >= R it is 1 and
 //     V -= R, else 0. After either, while R < 2^24: R = R · 2^8, V = (V · 2^8 + the next
 //     byte) mod 2^32. The stream must hold exactly the bytes the decoder reads. (The encoder
-//     is LZMA's: a 33-bit low end with carry propagation and five flushing bytes.)
+//     is LZMA's: a 33-bit low end with carry propagation and five flushing bytes.) The stream
+//     is therefore self-delimiting: it is 5 bytes plus one per renormalisation step.
+//
+// Compact meshes, CMSH (since 1.2): a run of M consecutive meshes in encoding 2 in one section,
+// instead of each mesh's MESH, KNOT, NODE, SLIT and TANG sections; the data of each mesh is
+// that of those sections (quantisation, spans, prediction, range coding: all as above) but for
+// shorter headers and plane weights with defaults. The section is always stored (codec 0): a
+// reader refuses other codecs, and a CMSH section in a file whose minor version is below 2.
+//   Payload
+//     varint M, the meshes in the run: at least 1, at most those DOCU declares that are not
+//       yet read
+//     6 svarints: the exponents e_pos, e_posU, e_posV, e_col, e_colU, e_colV of every mesh of
+//       the run, each within ±960
+//     M mesh records, back to back; nothing after the last
+//   Mesh record
+//     varints C, R, slit count, corner tangent break count: as in MESH
+//     u8 flags: bit 0 = colour derivatives omitted, as in MESH; the other bits must be 0
+//     svarint e_knot, within ±960; with the shared exponents it must satisfy encoding 2's
+//       rules (|e_f - e_knot| <= 960, |e_f - e_v| <= 16)
+//     the knots, laid out as KNOT of encodings 1 and 2
+//     the nodes: the plane weights (below), then the range-coded stream of NODE, encoding 2;
+//       the stream is exactly the bytes its decoder reads, and the record goes on after them
+//     the slits, laid out as SLIT of encoding 2 (nothing without slits)
+//     the corner tangent breaks, laid out as TANG of encoding 2 (nothing without breaks)
+//   Plane weights. A varint W: bit o (o = 0 .. F-1) stands for the o-th plane in coding order,
+//   with F = 15 planes, or 9 when colour derivatives are omitted; W < 2^F. Then, in coding
+//   order, for each plane whose bit is set, svarints da, db, ds (value plane) or da, ds
+//   (derivative plane): its weights are the default weights plus these, and each must be within
+//   ±32768. A plane whose bit is clear has the default weights:
+//       pos.x, pos.y                           a = 256, b = -256, s = 0
+//       col.g                                  a = 128, b = 0,    s = 0
+//       col.r, col.b                           a = 128, b = 0,    s = 240
+//       posU.x, posU.y, posV.x, posV.y         a = 256,           s = 0
+//       colU.g, colV.g                         a = 192,           s = 0
+//       colU.r, colU.b, colV.r, colV.b         a = 224,           s = 240
 //
 // Reading limits. Every count is checked against ReadLimits and against the bytes that remain
 // before anything is allocated. A section's declared N must fit its counts, and the sum of the
 // N of all sections may not exceed ReadLimits::maxFileBytes, a range-coded NODE counting
 // max(N, values) (a value decodes from a fraction of a bit): a decoded document is never larger
-// than the largest file the caller accepts, whatever the compression ratio.
+// than the largest file the caller accepts, whatever the compression ratio. A CMSH section
+// counts its N and, for each mesh record, its F·(C+1)(R+1) values as well, charged as soon as
+// the record's header is read. A record's counts are checked against ReadLimits and against the
+// bytes that remain of the payload (at least one per knot, 6 for the weights mask and the
+// stream, 3 + 2·(2 or 5) per slit, 3 + (2 or 5) per tangent break) before its knots, nodes,
+// slits and breaks are read, and M against the payload's remaining bytes at 16 per record.
+// A range-coded stream of V values is more than 4 + V/11730 bytes long (every decision narrows
+// R to at most 1 - 31/2^16 of itself, and R >= 2^24 at the end): a reader refuses nodes whose
+// remaining bytes are fewer than V/16384 before allocating their planes.
 #include <algorithm>
 
 #include "formats/atomic_file.h"

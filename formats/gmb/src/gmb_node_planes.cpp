@@ -33,6 +33,18 @@ constexpr int kValuePlane[kNodeComponents] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6,
 constexpr bool kAlongU[kNodeComponents] = {false, false, true, true, false, false, false, false,
                                            false, true,  true, true, false, false, false};
 
+// The weights a, b, s of each plane (node-record order) in a CMSH mesh record unless stated
+// (gmb_format.cpp, "CMSH"), in units of 1/256; b is unused for derivative planes. Fitted on
+// whole photos: positions follow the parallelogram and the central difference; a colour is
+// nearer the mean of its left and upper neighbours, and red and blue move with green.
+constexpr int32_t kDefaultWeights[kNodeComponents][3] = {
+    {256, -256, 0}, {256, -256, 0},                 // pos.x, pos.y
+    {256, 0, 0},    {256, 0, 0},                    // posU.x, posU.y
+    {256, 0, 0},    {256, 0, 0},                    // posV.x, posV.y
+    {128, 0, 240},  {128, 0, 0},    {128, 0, 240},  // col.r, col.g, col.b
+    {224, 0, 240},  {192, 0, 0},    {224, 0, 240},  // colU.r, colU.g, colU.b
+    {224, 0, 240},  {192, 0, 0},    {224, 0, 240}}; // colV.r, colV.g, colV.b
+
 bool isDerivative(int c) { return kValuePlane[c] >= 0; }
 
 int128 floorDiv(int128 n, int128 d) {  // d > 0
@@ -57,7 +69,16 @@ int64_t clampPrediction(int128 x) {
 
 struct Weights {
     int32_t a = 0, b = 0, s = 0;
+    bool operator==(const Weights& o) const { return a == o.a && b == o.b && s == o.s; }
 };
+
+Weights defaultWeights(int c) {
+    Weights w;
+    w.a = kDefaultWeights[c][0];
+    w.b = kDefaultWeights[c][1];
+    w.s = kDefaultWeights[c][2];
+    return w;
+}
 
 // What the prediction of one node combines: p = base + round((a·f1 + b·f2 + s·f3) / 256).
 struct Features {
@@ -205,27 +226,11 @@ bool solve(double (&A)[3][3], double (&b)[3], int m, double (&w)[3]) {
     return true;
 }
 
-// The residual cost proxy: about the bits a residual of that size takes, log2(1 + |e|) with
-// the fraction interpolated linearly.
-double costOf(const std::vector<Features>& f, const int64_t* q, const Weights& w) {
-    double bits = 0;
-    for (size_t k = 0; k < f.size(); ++k) {
-        const int64_t e = q[k] - predictFrom(f[k], w);
-        const uint64_t m = (e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e)) + 1;
-        const int n = 63 - __builtin_clzll(m);
-        bits += n + std::ldexp(static_cast<double>(m - (uint64_t(1) << n)), -n);
-    }
-    return bits;
-}
-
 // Fits the plane's weights by least squares, reweighted a few times towards least absolute
-// residuals (the coder's cost grows like log |e|: outliers should not steer the fit), and keeps
-// the fit only if it beats the default weights.
-Weights chooseWeights(const std::vector<Features>& f, const int64_t* q, bool derivative,
-                      bool sibling) {
-    Weights fallback;  // the central difference, or the parallelogram L + U - G
-    fallback.a = kWeightOne;
-    if (!derivative) fallback.b = -kWeightOne;
+// residuals (the coder's cost grows like log |e|: outliers should not steer the fit). False when
+// the fit is singular or out of range.
+bool fitWeights(const std::vector<Features>& f, const int64_t* q, bool derivative, bool sibling,
+                Weights& fit) {
     // Features used: derivative planes f1 (and f3), value planes f1, f2 (and f3).
     int used[3], m = 0;
     used[m++] = 1;
@@ -253,16 +258,58 @@ Weights chooseWeights(const std::vector<Features>& f, const int64_t* q, bool der
             }
         }
         for (int a = 0; a < m; ++a) A[a][a] += 1e-9 * A[a][a] + 1e-9;
-        if (!solve(A, b, m, w)) return fallback;
+        if (!solve(A, b, m, w)) return false;
     }
-    Weights fit;
+    fit = Weights();
     for (int a = 0; a < m; ++a) {
         const double x = std::round(w[a] * kWeightOne);
-        if (!(std::fabs(x) <= kMaxWeight)) return fallback;
-        const auto wi = static_cast<int32_t>(x);
-        (used[a] == 1 ? fit.a : used[a] == 2 ? fit.b : fit.s) = wi;
+        if (!(std::fabs(x) <= kMaxWeight)) return false;
+        (used[a] == 1 ? fit.a : used[a] == 2 ? fit.b : fit.s) = static_cast<int32_t>(x);
     }
-    return costOf(f, q, fit) < costOf(f, q, fallback) ? fit : fallback;
+    return true;
+}
+
+// The bits a decision costs with model m, without coding it (then m learns it, as when coding).
+double decisionBits(BitModel& m, int bit) {
+    const double p = m.probability() / 65536.0;
+    m.update(bit);
+    return -std::log2(bit ? p : 1 - p);
+}
+
+// What coding one plane's residuals `e` takes, in bits, exactly as encodeResidual codes them
+// (fresh models, the contexts of the plane and its sibling's residuals).
+double planeBits(const CodedGrid& g, const int64_t* e, const int64_t* sibling,
+                 ResidualModels& models) {
+    models = ResidualModels();
+    const size_t stride = static_cast<size_t>(g.columns) + 1;
+    double bits = 0;
+    for (int j = 0; j <= g.rows; ++j)
+        for (int i = 0; i <= g.columns; ++i) {
+            const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+            const int x = contextOf(e, sibling, i, j, g.columns, k, stride);
+            const int64_t r = e[k];
+            bits += decisionBits(models.zero[x], r != 0);
+            if (r == 0) continue;
+            bits += decisionBits(models.sign[x], r < 0);
+            const uint64_t mag = r < 0 ? 0 - static_cast<uint64_t>(r) : static_cast<uint64_t>(r);
+            const int n = 63 - __builtin_clzll(mag);
+            for (int b = 0; b < n; ++b)
+                bits += decisionBits(models.length[x][std::min(b, kLengthModels - 1)], 1);
+            if (n < 63) bits += decisionBits(models.length[x][std::min(n, kLengthModels - 1)], 0);
+            if (n >= 1)  // the bit below the leading 1, then n - 1 direct bits
+                bits += decisionBits(models.top[n], static_cast<int>((mag >> (n - 1)) & 1)) + (n - 1);
+        }
+    return bits;
+}
+
+// The bytes of a plane's explicit weights in a CMSH weights block: differences from the
+// defaults.
+size_t explicitWeightBytes(const Weights& w, const Weights& d, bool derivative) {
+    ByteWriter out;
+    out.svarint(w.a - d.a);
+    if (!derivative) out.svarint(w.b - d.b);
+    out.svarint(w.s - d.s);
+    return out.str().size();
 }
 
 }  // namespace
@@ -293,9 +340,11 @@ std::string codedExponentProblem(const int (&e)[kFieldCount]) {
 std::string encodeCodedNodes(const CodedGrid& g) {
     const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
     const int F = g.components;
-    std::vector<int64_t> residuals(static_cast<size_t>(F) * n);
+    std::vector<int64_t> residuals(static_cast<size_t>(F) * n), trial(n);
     Weights weights[kNodeComponents];
+    uint64_t mask = 0;  // bit o: the o-th plane in coding order has explicit weights
     std::vector<Features> features(n);
+    auto models = std::make_unique<ResidualModels>();
     for (int o = 0; o < F; ++o) {
         const int c = kCodingOrder[o];
         const int64_t* sibling =
@@ -307,20 +356,36 @@ std::string encodeCodedNodes(const CodedGrid& g) {
                 features[k] = plane.at(i, j, k);
             }
         const int64_t* q = &g.planes[static_cast<size_t>(c) * n];
-        weights[c] = chooseWeights(features, q, isDerivative(c), kSibling[c] >= 0);
         int64_t* e = &residuals[static_cast<size_t>(c) * n];
-        for (size_t k = 0; k < n; ++k) e[k] = q[k] - predictFrom(features[k], weights[c]);
+        // The defaults, or fitted weights where they save more than they cost to state.
+        const Weights defaults = defaultWeights(c);
+        weights[c] = defaults;
+        for (size_t k = 0; k < n; ++k) e[k] = q[k] - predictFrom(features[k], defaults);
+        Weights fit;
+        if (fitWeights(features, q, isDerivative(c), kSibling[c] >= 0, fit) && !(fit == defaults)) {
+            for (size_t k = 0; k < n; ++k) trial[k] = q[k] - predictFrom(features[k], fit);
+            const double saved = planeBits(g, e, sibling, *models) -
+                                 planeBits(g, trial.data(), sibling, *models);
+            if (saved > 8.0 * explicitWeightBytes(fit, defaults, isDerivative(c))) {
+                weights[c] = fit;
+                mask |= uint64_t(1) << o;
+                std::copy(trial.begin(), trial.end(), e);
+            }
+        }
     }
 
     ByteWriter out;
+    out.varint(mask);
     for (int o = 0; o < F; ++o) {
-        const Weights& w = weights[kCodingOrder[o]];
-        out.svarint(w.a);
-        if (!isDerivative(kCodingOrder[o])) out.svarint(w.b);
-        out.svarint(w.s);
+        if (!(mask >> o & 1)) continue;
+        const int c = kCodingOrder[o];
+        const Weights& w = weights[c];
+        const Weights d = defaultWeights(c);
+        out.svarint(w.a - d.a);
+        if (!isDerivative(c)) out.svarint(w.b - d.b);
+        out.svarint(w.s - d.s);
     }
     RangeEncoder enc;
-    auto models = std::make_unique<ResidualModels>();
     for (int o = 0; o < F; ++o) {
         const int c = kCodingOrder[o];
         *models = ResidualModels();
@@ -338,15 +403,28 @@ std::string encodeCodedNodes(const CodedGrid& g) {
     return std::move(out.str());
 }
 
-void decodeCodedNodes(ByteReader& r, CodedGrid& g) {
+void decodeCodedNodes(ByteReader& r, CodedGrid& g, WeightLayout layout) {
     const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
     const int F = g.components;
     Weights weights[kNodeComponents];
+    uint64_t mask = (uint64_t(1) << F) - 1;  // NODE: every plane states its weights
+    if (layout == WeightLayout::Masked) {
+        mask = r.varint();
+        if (mask >> F)
+            r.fail("weights mask " + std::to_string(mask) + " names planes beyond the " +
+                   std::to_string(F) + " of this mesh");
+    }
     for (int o = 0; o < F; ++o) {
-        Weights& w = weights[kCodingOrder[o]];
+        const int c = kCodingOrder[o];
+        Weights& w = weights[c];
+        const Weights d = layout == WeightLayout::Masked ? defaultWeights(c) : Weights();
+        w = d;
+        if (!(mask >> o & 1)) continue;
         for (int32_t* x : {&w.a, &w.b, &w.s}) {
-            if (x == &w.b && isDerivative(kCodingOrder[o])) continue;
-            const int64_t v = r.svarint();
+            if (x == &w.b && isDerivative(c)) continue;
+            // Differences from the defaults are read in 64 bits: a wild one fails the range check.
+            const int64_t v = static_cast<int64_t>(static_cast<uint64_t>(r.svarint()) +
+                                                   static_cast<uint64_t>(int64_t(*x)));
             if (v > kMaxWeight || v < -kMaxWeight)
                 r.fail("plane weight " + std::to_string(v) + " out of range");
             *x = static_cast<int32_t>(v);

@@ -43,11 +43,18 @@ struct CodedGrid {
     }
 };
 
-// The NODE payload: the weights of every plane, then the range-coded residuals.
+// How the plane weights precede the range-coded residuals: every plane's weights (a NODE
+// section of encoding 2, version 1.1), or a mask of the planes that state theirs as differences
+// from the defaults (the nodes of a CMSH mesh record, version 1.2).
+enum class WeightLayout { Explicit, Masked };
+
+// The nodes of a CMSH mesh record: the weights mask, the weights that pay for themselves, then
+// the range-coded residuals. (The writer writes no NODE of encoding 2 any more.)
 std::string encodeCodedNodes(const CodedGrid& grid);
 
-// Fills grid.planes (everything else must be set) from the payload in `reader`, which it reads
-// to the end; every failure is a gm::Error through the reader.
-void decodeCodedNodes(ByteReader& reader, CodedGrid& grid);
+// Fills grid.planes (everything else must be set) from the weights and the range-coded stream
+// in `reader`, leaving the reader just after the stream's last byte; every failure is a
+// gm::Error through the reader.
+void decodeCodedNodes(ByteReader& reader, CodedGrid& grid, WeightLayout layout);
 
 }  // namespace gm::gmb

@@ -20,10 +20,17 @@ using namespace gmb;
 
 // DOCU and MESH may grow by appended fields in later minors, but never beyond this.
 constexpr uint64_t kMaxHeaderPayload = 4096;
+// The smallest mesh a file can hold: a CMSH mesh record of 1x1 patches (six one-byte header
+// fields, four knots, the weights mask and a 5-byte range-coded stream).
+constexpr uint64_t kMinMeshRecord = 16;
+// A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp).
+constexpr uint64_t kValuesPerStreamByte = 16384;
+// The smallest float64 or 1.1 mesh: MESH, KNOT and NODE sections.
+constexpr uint64_t kMinMeshSections = 3 * kSectionOverhead;
 
 bool isKnownTag(const std::string& t) {
     return t == "DOCU" || t == "MESH" || t == "KNOT" || t == "NODE" || t == "SLIT" ||
-           t == "TANG" || t == "END ";
+           t == "TANG" || t == "CMSH" || t == "END ";
 }
 
 // Tags may be any bytes in a hostile file; print them readably.
@@ -59,6 +66,7 @@ struct Payload {
 struct MeshHeader {
     uint64_t columns = 0, rows = 0, slits = 0, tangents = 0;
     Encoding encoding = Encoding::Float64;
+    bool record = false;  // a CMSH mesh record (encoding 2, masked plane weights)
     bool byRule = false;
     int exponent[kFieldCount] = {};
     int components() const { return byRule ? kNodeComponentsByRule : kNodeComponents; }
@@ -77,11 +85,18 @@ private:
         throw Error(what, file_, "byte " + std::to_string(at));
     }
     void readFileHeader();
-    Section next(const char* expected);
+    // `orElse`: a second tag that may stand there instead.
+    Section next(const std::string& expected, const std::string& orElse = std::string());
     void open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decodedAtLeast = 0);
     void finish(const Payload& p, const Section& s) const;
 
     MeshHeader readMeshHeader(ByteReader& r, const Section& s);
+    // What is wrong with a mesh header's counts (limits, what its grid can hold), or "".
+    std::string countProblem(const MeshHeader& h) const;
+    GradientMesh readSections(const MeshHeader& h);
+    void readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
+    void readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Document& doc);
+    void addMesh(GradientMesh m, const MeshHeader& h, Document& doc);
     void readKnots(ByteReader& r, const MeshHeader& h, GradientMesh& m);
     void readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m);
     void readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m);
@@ -143,8 +158,8 @@ void Decoder::readFileHeader() {
 
 // The next section the document structure expects, skipping optional sections this reader does
 // not know. The section's CRC has been checked; pos_ is past it.
-Section Decoder::next(const char* expected) {
-    const std::string want = expected;
+Section Decoder::next(const std::string& expected, const std::string& orElse) {
+    const std::string want = orElse.empty() ? expected : expected + " or " + orElse;
     for (;;) {
         const uint64_t left = bytes_.size() - pos_;
         if (left == 0) fail("truncated: the file ends before section " + want, pos_);
@@ -175,7 +190,7 @@ Section Decoder::next(const char* expected) {
             fail("CRC mismatch in section " + name + " (the file is damaged)", s.start);
         pos_ += covered + kCrcSize;
         if (isKnownTag(s.tag)) {
-            if (s.tag != want)
+            if (s.tag != expected && (orElse.empty() || s.tag != orElse))
                 fail("section " + name + " out of place: expected " + want, s.start);
             return s;
         }
@@ -252,6 +267,27 @@ double Decoder::component(ByteReader& r, const MeshHeader& h, int c, int64_t q, 
     return quantized(r, q, h.exponent[f]);
 }
 
+std::string Decoder::countProblem(const MeshHeader& h) const {
+    const std::string grid = std::to_string(h.columns) + "x" + std::to_string(h.rows);
+    if (h.columns == 0 || h.rows == 0) return "grid " + grid + " is empty";
+    const uint64_t side = std::min<uint64_t>(limits_.maxGridSide, INT_MAX - 1);
+    if (h.columns > side || h.rows > side)
+        return "grid " + grid + " exceeds the limit of " + std::to_string(side) + " columns or rows";
+    if (h.nodes() > limits_.maxNodesPerMesh)
+        return "grid " + grid + " has " + std::to_string(h.nodes()) + " nodes, over the limit of " +
+               std::to_string(limits_.maxNodesPerMesh);
+    if (h.slits > limits_.maxSlitsPerMesh)
+        return std::to_string(h.slits) + " slits exceed the limit of " +
+               std::to_string(limits_.maxSlitsPerMesh);
+    // Slits lie on interior rows and do not touch: at most C/2 per row.
+    if (h.slits > satMul(h.rows - 1, h.columns / 2))
+        return std::to_string(h.slits) + " slits cannot fit a " + grid + " grid";
+    if (h.tangents > satMul(4, satMul(h.columns, h.rows)))
+        return std::to_string(h.tangents) + " tangent breaks for only " +
+               std::to_string(h.columns * h.rows) + " patches";
+    return {};
+}
+
 MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
     MeshHeader h;
     r.need(kMeshPayloadSize, "the mesh header");
@@ -263,31 +299,8 @@ MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
     const uint8_t flags = r.u8();
     for (int& e : h.exponent) e = r.i16();
     const std::string at = meshName_ + ": ";
-    if (h.columns == 0 || h.rows == 0)
-        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) + " is empty", s.start);
-    const uint64_t side = std::min<uint64_t>(limits_.maxGridSide, INT_MAX - 1);
-    if (h.columns > side || h.rows > side)
-        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) +
-                 " exceeds the limit of " + std::to_string(side) + " columns or rows",
-             s.start);
-    if (h.nodes() > limits_.maxNodesPerMesh)
-        fail(at + "grid " + std::to_string(h.columns) + "x" + std::to_string(h.rows) + " has " +
-                 std::to_string(h.nodes()) + " nodes, over the limit of " +
-                 std::to_string(limits_.maxNodesPerMesh),
-             s.start);
-    if (h.slits > limits_.maxSlitsPerMesh)
-        fail(at + std::to_string(h.slits) + " slits exceed the limit of " +
-                 std::to_string(limits_.maxSlitsPerMesh),
-             s.start);
-    // Slits lie on interior rows and do not touch: at most C/2 per row.
-    if (h.slits > satMul(h.rows - 1, h.columns / 2))
-        fail(at + std::to_string(h.slits) + " slits cannot fit a " + std::to_string(h.columns) + "x" +
-                 std::to_string(h.rows) + " grid",
-             s.start);
-    if (h.tangents > satMul(4, satMul(h.columns, h.rows)))
-        fail(at + std::to_string(h.tangents) + " tangent breaks for only " +
-                 std::to_string(h.columns * h.rows) + " patches",
-             s.start);
+    const std::string problem = countProblem(h);
+    if (!problem.empty()) fail(at + problem, s.start);
     if (encoding > static_cast<uint8_t>(Encoding::Coded))
         fail(at + "unknown mesh encoding " + std::to_string(encoding), s.start);
     h.encoding = static_cast<Encoding>(encoding);
@@ -358,9 +371,13 @@ void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
     std::copy(std::begin(h.exponent), std::end(h.exponent), grid_.exponent);
     if (h.encoding == Encoding::Coded) {
         // Range-coded: no bytes per value to count on (the caller charged the values to the
-        // budget). The weights come first: at least 2 bytes per plane, then 5 of the stream.
-        r.need(satAdd(satMul(2, F), 5), "the nodes");
-        decodeCodedNodes(r, grid_);
+        // budget). The weights come first (in NODE at least 2 bytes per plane, in a CMSH record
+        // at least the mask), then at least 5 bytes of the stream.
+        r.need(h.record ? 6 : satAdd(satMul(2, F), 5), "the nodes");
+        // Nor can a stream be shorter than its values allow (gmb_format.cpp, "Reading limits"):
+        // checked before the planes are allocated.
+        r.need(satMul(F, n) / kValuesPerStreamByte, "the range-coded nodes");
+        decodeCodedNodes(r, grid_, h.record ? WeightLayout::Masked : WeightLayout::Explicit);
         m.nodes.resize(static_cast<size_t>(n));
         for (int c = 0; c < F; ++c) {
             const int64_t* q = &grid_.planes[c * static_cast<size_t>(n)];
@@ -474,6 +491,133 @@ void Decoder::readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m) 
     }
 }
 
+// The KNOT, NODE, SLIT and TANG sections of the mesh whose MESH section gave `h`.
+GradientMesh Decoder::readSections(const MeshHeader& h) {
+    GradientMesh m;
+    const bool f64 = h.encoding == Encoding::Float64;
+    const uint64_t F = static_cast<uint64_t>(h.components());
+    const uint64_t perValue = f64 ? 8 : 10;  // a varint takes at most 10 bytes
+    {
+        const Section s = next("KNOT");
+        Payload p;
+        open(s, satMul(perValue, h.columns + h.rows + 2), p);
+        readKnots(p.reader, h, m);
+        finish(p, s);
+    }
+    {
+        const Section s = next("NODE");
+        Payload p;
+        if (h.encoding == Encoding::Coded) {
+            // Weights (3 varints per plane), then at most 11 bits per binary decision of a
+            // 64-bit residual (gmb_format.cpp), under 128 bytes per value; decoded, each
+            // value counts as at least a byte, as in encoding 1.
+            const uint64_t values = satMul(F, h.nodes());
+            open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p, values);
+        } else {
+            open(s, satMul(satMul(perValue, F), h.nodes()), p);
+        }
+        readNodes(p.reader, h, m);
+        finish(p, s);
+    }
+    if (h.slits > 0) {
+        const Section s = next("SLIT");
+        // Row and columns, two end tangents and at most C-2 split nodes per slit.
+        const uint64_t perSlit = satAdd(3 * perValue + 10 * perValue,
+                                        satMul(h.columns - 1, satMul(perValue, F)));
+        Payload p;
+        open(s, satMul(h.slits, perSlit), p);
+        readSlits(p.reader, h, m);
+        finish(p, s);
+    }
+    if (h.tangents > 0) {
+        const Section s = next("TANG");
+        Payload p;
+        open(s, satMul(h.tangents, 4 * perValue + 2 + 5 * perValue), p);
+        readTangents(p.reader, h, m);
+        finish(p, s);
+    }
+    return m;
+}
+
+// A decoded mesh joins the document once its structure is valid (the colour rule may rely on it).
+void Decoder::addMesh(GradientMesh m, const MeshHeader& h, Document& doc) {
+    grid_ = CodedGrid();
+    const std::string problem = validateMesh(m);
+    if (!problem.empty()) throw Error(meshName_ + ": " + problem, file_);
+    if (h.byRule) applyColorRule(m);
+    doc.meshes.push_back(std::move(m));
+}
+
+// A CMSH section: a run of meshes in encoding 2 (version 1.2).
+void Decoder::readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
+    if (minor_ < 2)
+        fail("section CMSH needs format version 1.2 (the file says 1." + std::to_string(minor_) + ")",
+             s.start);
+    if (s.codec != static_cast<uint8_t>(Codec::Stored))
+        fail("section CMSH must be stored (codec 0), not codec " + std::to_string(s.codec), s.start);
+    meshName_.clear();  // the section holds several meshes: each record names its own
+    Payload p;
+    open(s, s.stored, p);
+    ByteReader& r = p.reader;
+    const uint64_t count = r.varint();
+    if (count == 0) r.fail("a CMSH section holds no mesh");
+    if (count > meshesLeft)
+        r.fail("CMSH holds " + std::to_string(count) + " meshes, but the document has only " +
+               std::to_string(meshesLeft) + " more");
+    int shared[kFieldCount] = {};
+    for (int f = kPos; f < kFieldCount; ++f) {
+        const int64_t e = r.svarint();
+        if (e < -kMaxExponent || e > kMaxExponent)
+            r.fail("quantisation exponent " + std::to_string(e) + " out of range");
+        shared[f] = static_cast<int>(e);
+    }
+    r.need(satMul(count, kMinMeshRecord), std::to_string(count) + " mesh records");
+    const uint64_t payloadAt = s.start + kSectionHeaderSize;
+    for (uint64_t k = 0; k < count; ++k) {
+        meshName_ = "mesh " + std::to_string(doc.meshes.size());
+        // The record's own reader names its mesh; the stored payload is a view of the file.
+        ByteReader record(bytes_.data() + payloadAt + r.position(), r.remaining(),
+                          Origin{file_, "CMSH (" + meshName_ + ")", payloadAt + r.position()});
+        readMeshRecord(record, shared, doc);
+        r.skip(record.position());
+    }
+    finish(p, s);
+}
+
+void Decoder::readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Document& doc) {
+    MeshHeader h;
+    h.encoding = Encoding::Coded;
+    h.record = true;
+    h.columns = r.varint();
+    h.rows = r.varint();
+    h.slits = r.varint();
+    h.tangents = r.varint();
+    const std::string problem = countProblem(h);
+    if (!problem.empty()) r.fail(problem);
+    const uint8_t flags = r.u8();
+    if (flags & ~kMeshColorByRule) r.fail("unknown mesh flags " + std::to_string(flags));
+    h.byRule = flags & kMeshColorByRule;
+    const int64_t knot = r.svarint();
+    if (knot < -kMaxExponent || knot > kMaxExponent)
+        r.fail("quantisation exponent " + std::to_string(knot) + " out of range");
+    std::copy(std::begin(shared), std::end(shared), h.exponent);
+    h.exponent[kKnot] = static_cast<int>(knot);
+    const std::string exponents = codedExponentProblem(h.exponent);
+    if (!exponents.empty()) r.fail(exponents);
+    // Range-coded values decode from a fraction of a bit each: each counts as a byte.
+    const uint64_t values = satMul(static_cast<uint64_t>(h.components()), h.nodes());
+    decodedBytes_ = satAdd(decodedBytes_, values);
+    if (decodedBytes_ > limits_.maxFileBytes)
+        r.fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
+               " bytes");
+    GradientMesh m;
+    readKnots(r, h, m);
+    readNodes(r, h, m);
+    readSlits(r, h, m);
+    readTangents(r, h, m);
+    addMesh(std::move(m), h, doc);
+}
+
 Document Decoder::run() {
     readFileHeader();
     Document doc;
@@ -499,7 +643,7 @@ Document Decoder::run() {
                      std::to_string(limits_.maxMeshes),
                  s.start);
         const uint64_t left = bytes_.size() - pos_;
-        if (satMul(meshCount, 3 * kSectionOverhead) > left)
+        if (satMul(meshCount, minor_ >= 2 ? kMinMeshRecord : kMinMeshSections) > left)
             fail("truncated: the document declares " + std::to_string(meshCount) + " meshes but only " +
                      std::to_string(left) + " bytes remain",
                  s.start);
@@ -507,64 +651,20 @@ Document Decoder::run() {
         doc.height = static_cast<int>(height);
     }
 
-    for (uint64_t k = 0; k < meshCount; ++k) {
-        meshName_ = "mesh " + std::to_string(k);
-        GradientMesh m;
+    while (doc.meshes.size() < meshCount) {
+        meshName_ = "mesh " + std::to_string(doc.meshes.size());
+        const Section s = next("MESH", "CMSH");
+        if (s.tag == "CMSH") {
+            readCompactMeshes(s, meshCount - doc.meshes.size(), doc);
+            continue;
+        }
         MeshHeader h;
         {
-            const Section s = next("MESH");
             Payload p;
             open(s, kMaxHeaderPayload, p);
             h = readMeshHeader(p.reader, s);
         }
-        const bool f64 = h.encoding == Encoding::Float64;
-        const uint64_t F = static_cast<uint64_t>(h.components());
-        const uint64_t perValue = f64 ? 8 : 10;  // a varint takes at most 10 bytes
-        {
-            const Section s = next("KNOT");
-            Payload p;
-            open(s, satMul(perValue, h.columns + h.rows + 2), p);
-            readKnots(p.reader, h, m);
-            finish(p, s);
-        }
-        {
-            const Section s = next("NODE");
-            Payload p;
-            if (h.encoding == Encoding::Coded) {
-                // Weights (3 varints per plane), then at most 11 bits per binary decision of a
-                // 64-bit residual (gmb_format.cpp), under 128 bytes per value; decoded, each
-                // value counts as at least a byte, as in encoding 1.
-                const uint64_t values = satMul(F, h.nodes());
-                open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p, values);
-            } else {
-                open(s, satMul(satMul(perValue, F), h.nodes()), p);
-            }
-            readNodes(p.reader, h, m);
-            finish(p, s);
-        }
-        if (h.slits > 0) {
-            const Section s = next("SLIT");
-            // Row and columns, two end tangents and at most C-2 split nodes per slit.
-            const uint64_t perSlit = satAdd(3 * perValue + 10 * perValue,
-                                            satMul(h.columns - 1, satMul(perValue, F)));
-            Payload p;
-            open(s, satMul(h.slits, perSlit), p);
-            readSlits(p.reader, h, m);
-            finish(p, s);
-        }
-        if (h.tangents > 0) {
-            const Section s = next("TANG");
-            Payload p;
-            open(s, satMul(h.tangents, 4 * perValue + 2 + 5 * perValue), p);
-            readTangents(p.reader, h, m);
-            finish(p, s);
-        }
-        grid_ = CodedGrid();
-        // Structure first (rows, slit overlaps, node counts): the colour rule may rely on it.
-        const std::string problem = validateMesh(m);
-        if (!problem.empty()) throw Error(meshName_ + ": " + problem, file_);
-        if (h.byRule) applyColorRule(m);
-        doc.meshes.push_back(std::move(m));
+        addMesh(readSections(h), h, doc);
     }
     meshName_.clear();
 

@@ -52,21 +52,30 @@ private:
     ByteWriter w_;
 };
 
+// One mesh as float64 sections (MESH KNOT NODE [SLIT] [TANG]), or as a record of a CMSH section
+// (`coded`: encoding 2, version 1.2), which holds the same knot, node, slit and tangent data.
 struct MeshPayloads {
     std::string mesh, knot, node, slit, tang;
-    bool coded = false;  // encoding 2
+    bool coded = false;
+    int exponent[kFieldCount] = {};
+    std::string record;  // when coded: the CMSH mesh record
 };
 
-std::string meshHeader(const GradientMesh& m, Encoding encoding, uint8_t flags,
-                       const int (&exponent)[kFieldCount]) {
+// The exponents a CMSH section states once for all its meshes (all but the knots').
+bool sameSharedExponents(const MeshPayloads& a, const MeshPayloads& b) {
+    return std::equal(a.exponent + kPos, a.exponent + kFieldCount, b.exponent + kPos);
+}
+
+// The MESH payload of a float64 mesh (no flags, zero exponents).
+std::string float64MeshHeader(const GradientMesh& m) {
     ByteWriter w;
     w.u32(static_cast<uint32_t>(m.columns()));
     w.u32(static_cast<uint32_t>(m.rows()));
     w.u32(static_cast<uint32_t>(m.slits.size()));
     w.u32(static_cast<uint32_t>(m.tangents.size()));
-    w.u8(static_cast<uint8_t>(encoding));
-    w.u8(flags);
-    for (int e : exponent) w.i16(static_cast<int16_t>(e));
+    w.u8(static_cast<uint8_t>(Encoding::Float64));
+    w.u8(0);
+    for (int f = 0; f < kFieldCount; ++f) w.i16(0);
     return std::move(w.str());
 }
 
@@ -76,8 +85,7 @@ void writeNodeF64(ByteWriter& w, const Node& n) {
 
 MeshPayloads encodeFloat64(const GradientMesh& m) {
     MeshPayloads p;
-    const int zero[kFieldCount] = {};
-    p.mesh = meshHeader(m, Encoding::Float64, 0, zero);
+    p.mesh = float64MeshHeader(m);
     ByteWriter knot, node, slit, tang;
     for (double x : m.u) knot.f64(x);
     for (double x : m.v) knot.f64(x);
@@ -204,7 +212,7 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2. False when some value does not fit the quantised grid (enormous coordinates,
+// Encoding 2, as a CMSH mesh record. False when some value does not fit the quantised grid (enormous coordinates,
 // degenerate knot spacing); the caller then writes the mesh as float64, always within bounds.
 bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
     int e[kFieldCount];
@@ -212,7 +220,6 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
     for (int x : e)
         if (x < -kMaxExponent || x > kMaxExponent) return false;
     if (!codedExponentProblem(e).empty()) return false;
-    p.mesh = meshHeader(m, Encoding::Coded, byRule ? kMeshColorByRule : 0, e);
     const int F = byRule ? kNodeComponentsByRule : kNodeComponents;
     const int C = m.columns(), R = m.rows();
 
@@ -293,10 +300,19 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
         }
     }
     p.coded = true;
-    p.knot = std::move(knot.str());
-    p.node = encodeCodedNodes(g);
-    p.slit = std::move(slit.str());
-    p.tang = std::move(tang.str());
+    std::copy(std::begin(e), std::end(e), p.exponent);
+    ByteWriter record;
+    record.varint(static_cast<uint64_t>(C));
+    record.varint(static_cast<uint64_t>(R));
+    record.varint(m.slits.size());
+    record.varint(m.tangents.size());
+    record.u8(byRule ? kMeshColorByRule : 0);
+    record.svarint(e[kKnot]);
+    record.bytes(knot.str());
+    record.bytes(encodeCodedNodes(g));
+    record.bytes(slit.str());
+    record.bytes(tang.str());
+    p.record = std::move(record.str());
     return true;
 }
 
@@ -330,7 +346,8 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
     }
 
     SectionSink out;
-    // The lowest version that holds the file: lossless files stay readable by 1.0 readers.
+    // The lowest version that holds the file: lossless files stay readable by 1.0 readers, and
+    // only a file with a CMSH section needs 1.2.
     out.header(coded ? kMinor : 0);
     ByteWriter docu;
     docu.u32(static_cast<uint32_t>(doc.width));
@@ -338,15 +355,28 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
     docu.u32(static_cast<uint32_t>(doc.meshes.size()));
     out.add("DOCU", docu.str(), false);
 
-    for (size_t k = 0; k < doc.meshes.size(); ++k) {
+    for (size_t k = 0; k < doc.meshes.size();) {
         const GradientMesh& m = doc.meshes[k];
         const MeshPayloads& p = meshes[k];
+        if (p.coded) {
+            // One CMSH for the run of coded meshes that share their exponents; stored, as
+            // range-coded data does not compress.
+            size_t end = k + 1;
+            while (end < meshes.size() && meshes[end].coded && sameSharedExponents(p, meshes[end]))
+                ++end;
+            ByteWriter cmsh;
+            cmsh.varint(end - k);
+            for (int f = kPos; f < kFieldCount; ++f) cmsh.svarint(p.exponent[f]);
+            for (; k < end; ++k) cmsh.bytes(meshes[k].record);
+            out.add("CMSH", cmsh.str(), false);
+            continue;
+        }
         out.add("MESH", p.mesh, false);
         out.add("KNOT", p.knot, compact);
-        // Range-coded nodes do not compress further.
-        out.add("NODE", p.node, compact && !p.coded);
+        out.add("NODE", p.node, compact);
         if (!m.slits.empty()) out.add("SLIT", p.slit, compact);
         if (!m.tangents.empty()) out.add("TANG", p.tang, compact);
+        ++k;
     }
     out.add("END ", std::string(), false);
     return out.take();

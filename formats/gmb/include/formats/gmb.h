@@ -11,10 +11,11 @@ namespace gm {
 std::unique_ptr<MeshFormat> makeGmbFormat();
 
 // In-memory encode/decode (the format object reads/writes files through these). The layout,
-// version 1.1, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader also reads
-// every 1.0 file, and a lossless file is still a 1.0 file.
-// `compact`: quantised, predicted and range-coded (encoding 2, version 1.1), within the bounds
-// below; otherwise lossless: every double stored bit for bit. Throws gm::Error (without a file
+// version 1.2, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader also reads
+// every 1.0 and 1.1 file, and a lossless file is still a 1.0 file.
+// `compact`: quantised, predicted and range-coded (encoding 2), within the bounds below, in
+// CMSH sections (version 1.2: a few bytes of headers per mesh); otherwise lossless: every
+// double stored bit for bit. Throws gm::Error (without a file
 // name) for a document that fails validateDocument.
 // compactLevel: see GmbCompactShifts (0 unless compact).
 std::string encodeGmb(const Document& doc, bool compact, int compactLevel = 0);
@@ -48,7 +49,7 @@ struct GmbCompactBounds {
 };
 // Coarser compact files, for size: at level L (0 to kGmbMaxCompactLevel; 0 is the default and
 // the bounds above) each quantity's grid, and with it its bound, is 2^k times level 0's, with k
-// from gmbCompactShifts(L). Every file states its grids, so any 1.1 reader reads every level.
+// from gmbCompactShifts(L). Every file states its grids, so any 1.2 reader reads every level.
 // Level 1 costs ~0.01 dB, level 2 ~0.2 dB, level 3 ~0.6 dB of PSNR on a whole photo at E 3,
 // for ~10 %, ~40 %, ~50 % fewer bytes (bench/README.md).
 constexpr int kGmbMaxCompactLevel = 3;
