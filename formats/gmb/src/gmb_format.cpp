@@ -172,11 +172,12 @@
 //
 // Reading limits. Every count is checked against ReadLimits and against the bytes that remain
 // before anything is allocated. A section's declared N must fit its counts, and the sum of the
-// N of all sections may not exceed ReadLimits::maxFileBytes, a range-coded NODE counting
-// max(N, values) (a value decodes from a fraction of a bit): a decoded document is never larger
-// than the largest file the caller accepts, whatever the compression ratio. A CMSH section
-// counts its N and, for each mesh record, its F·(C+1)(R+1) values as well, charged as soon as
-// the record's header is read. A record's counts are checked against ReadLimits and against the
+// N of all sections may not exceed ReadLimits::maxFileBytes, a NODE in encoding 1 or 2
+// counting max(N, 8 · values) (each value becomes an 8-byte binary64; a range-coded one decodes
+// from a fraction of a bit): a decoded document is never larger than the largest file the
+// caller accepts, whatever the compression ratio. A CMSH section counts its N and, for each
+// mesh record, 8 · F·(C+1)(R+1) bytes for its values as well, charged as soon as the record's
+// header is read. A record's counts are checked against ReadLimits and against the
 // bytes that remain of the payload (at least one per knot, 6 for the weights mask and the
 // stream, 3 + 2·(2 or 5) per slit, 3 + (2 or 5) per tangent break) before its knots, nodes,
 // slits and breaks are read, and M against the payload's remaining bytes at 16 per record.

@@ -24,6 +24,9 @@ constexpr uint64_t kMaxHeaderPayload = 4096;
 // fields, four knots, the weights mask and a 5-byte range-coded stream).
 constexpr uint64_t kMinMeshRecord = 16;
 // A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp).
+// What a quantised node value counts against ReadLimits::maxFileBytes once decoded: the
+// binary64 it becomes (gmb_format.cpp, "Reading limits").
+constexpr uint64_t kDecodedBytesPerValue = 8;
 constexpr uint64_t kValuesPerStreamByte = 16384;
 // The smallest float64 or 1.1 mesh: MESH, KNOT and NODE sections.
 constexpr uint64_t kMinMeshSections = 3 * kSectionOverhead;
@@ -510,11 +513,15 @@ GradientMesh Decoder::readSections(const MeshHeader& h) {
         if (h.encoding == Encoding::Coded) {
             // Weights (3 varints per plane), then at most 11 bits per binary decision of a
             // 64-bit residual (gmb_format.cpp), under 128 bytes per value; decoded, each
-            // value counts as at least a byte, as in encoding 1.
+            // value counts as the binary64 it becomes.
             const uint64_t values = satMul(F, h.nodes());
-            open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p, values);
+            open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p,
+                 satMul(kDecodedBytesPerValue, values));
         } else {
-            open(s, satMul(satMul(perValue, F), h.nodes()), p);
+            // A quantised value (a varint of a byte or more) counts as the binary64 it becomes.
+            const uint64_t values = satMul(F, h.nodes());
+            open(s, satMul(perValue, values), p,
+                 perValue < kDecodedBytesPerValue ? satMul(kDecodedBytesPerValue, values) : 0);
         }
         readNodes(p.reader, h, m);
         finish(p, s);
@@ -604,9 +611,10 @@ void Decoder::readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Do
     h.exponent[kKnot] = static_cast<int>(knot);
     const std::string exponents = codedExponentProblem(h.exponent);
     if (!exponents.empty()) r.fail(exponents);
-    // Range-coded values decode from a fraction of a bit each: each counts as a byte.
+    // Range-coded values decode from a fraction of a bit each: each counts as the binary64 it
+    // becomes.
     const uint64_t values = satMul(static_cast<uint64_t>(h.components()), h.nodes());
-    decodedBytes_ = satAdd(decodedBytes_, values);
+    decodedBytes_ = satAdd(decodedBytes_, satMul(kDecodedBytesPerValue, values));
     if (decodedBytes_ > limits_.maxFileBytes)
         r.fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
                " bytes");
