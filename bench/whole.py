@@ -24,11 +24,12 @@ IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png"]
 # default budget (8000 patches per region, at most one per 8 region pixels) --max-error is what
 # stops most regions, so E sets the size; the fixed small budgets give the low-rate end of the
 # curve. "3" is convert's default.
-POINTS = ["2/10", "2/25", "2/50", "2/100", "2/400", "8", "5", "4", "3"]  # about rising size
+POINTS = ["2/4", "2/10", "2/25", "2/50", "2/100", "2/400", "8", "5", "4", "3"]  # about rising size
 
-# Compact .gmb level of the rate-distortion rows (gmb.h, GmbCompactShifts): 2 is ~40 % smaller
-# than level 0 for ~0.2 dB, which beats JPEG's own trade at these rates.
-COMPACT_LEVEL = 2
+# Compact .gmb levels of the rate-distortion rows (gmb.h, GmbCompactShifts), each point converted
+# at each: 2 is ~40 % smaller than level 0 for ~0.2 dB at E 3; 4 and 5 trade more PSNR for size,
+# which pays against JPEG at the low-rate end. BENCH_COMPACT_LEVELS=2,4 sets them.
+COMPACT_LEVELS = [int(x) for x in os.environ.get("BENCH_COMPACT_LEVELS", "2,4,5").split(",")]
 
 # The whole-image mode of convert. The one line to change if --segment's arguments change.
 SEGMENT_ARGS = ["--segment"]
@@ -182,16 +183,17 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
         extra = SEGMENT_ARGS
         if not segment:
             if "error" in jc:
-                body.append([name] + ["—"] * 13 + ["FAILED: no size for the stand-in mask"])
+                body.append([name] + ["—"] * 14 + ["FAILED: no size for the stand-in mask"])
                 continue
             mask = os.path.join(out, stem + "_white.png")
             white_png(mask, jc["width"], jc["height"])
             extra = ["--mask", mask]
         mesh_pts = []
-        for e, budget in points:
-            base = os.path.join(out, "%s_E%g%s" % (stem, e, "_P%d" % budget if budget else ""))
+        for (e, budget), level in [(p, lv) for p in points for lv in COMPACT_LEVELS]:
+            base = os.path.join(out, "%s_E%g%s_L%d" % (stem, e, "_P%d" % budget if budget else "",
+                                                       level))
             gmb, rep = base + ".gmb", base + ".json"
-            args = ["--compact-level", str(COMPACT_LEVEL), "--max-error", "%g" % e]
+            args = ["--compact-level", str(level), "--max-error", "%g" % e]
             if budget:
                 args += ["--max-patches", str(budget)]
             elif not segment:
@@ -199,8 +201,8 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
             ok, r, wall, _ = run_convert(gm, image, None, gmb, rep, extra + args, timeout)
             bcell = str(budget) if budget else "default"
             if not ok:
-                log("   E %g, budget %s failed: %s" % (e, bcell, r))
-                body.append([name, "%g" % e, bcell] + ["—"] * 9 +
+                log("   E %g, budget %s, level %d failed: %s" % (e, bcell, level, r))
+                body.append([name, "%g" % e, bcell, str(level)] + ["—"] * 9 +
                             ["%s (wall, failed)" % fmt(wall), "—", "FAILED: %s" % r])
                 continue
             # The compact file's own figures (older gradmesh: the mesh's).
@@ -240,13 +242,14 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
                 notes.append("%.2f %% of pixels only under the base mesh" %
                              (100 * seg["region_uncovered"]))
             notes.append("wall with --report %s s" % fmt(wall))
-            log("   E %g, budget %s: %d regions, %d patches, PSNR %.2f, %d B zipped, JPEG %s, "
-                "%.1f s" % (e, bcell, regions, r["patches"], psnr, zipped, jcell,
-                            r["io_seconds"]["end_to_end"]))
+            log("   E %g, budget %s, level %d: %d regions, %d patches, PSNR %.2f, %d B zipped, "
+                "JPEG %s, %.1f s" % (e, bcell, level, regions, r["patches"], psnr, zipped, jcell,
+                                     r["io_seconds"]["end_to_end"]))
             mesh_pts.append((zipped, psnr))
             bcell = str(r.get("max_patches", budget)) + (
                 "" if budget else " (default)" if segment else " (stand-in)")
-            body.append([name, "%g" % e, bcell, str(regions), str(r["patches"]), fmt(err["E"]),
+            body.append([name, "%g" % e, bcell, str(level), str(regions), str(r["patches"]),
+                         fmt(err["E"]),
                          fmt(psnr), str(compact), str(zipped), jcell, ratio, rcell,
                          fmt(r["io_seconds"]["end_to_end"]),
                          "%.3f %%" % (100 * err["uncovered"]), "; ".join(notes)])
@@ -258,16 +261,16 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
     print("### Whole image against JPEG (Fig. 10)")
     print()
     if segment:
-        print("Each row: `gradmesh convert IMAGE %s --compact-level %d --max-error E "
-              "[--max-patches P] --report R.json` (E target, patch budget P per region); E and "
-              "PSNR are the compact file's own (decoded and re-rendered)." % (
-                  " ".join(SEGMENT_ARGS), COMPACT_LEVEL))
+        print("Each row: `gradmesh convert IMAGE %s --compact-level L --max-error E "
+              "[--max-patches P] --report R.json` (E target, patch budget P per region, compact "
+              "level L); E and PSNR are the compact file's own (decoded and re-rendered)." %
+              " ".join(SEGMENT_ARGS))
     else:
         print("**STAND-IN, not `--segment`** (this gradmesh has no `--segment`): each row is "
-              "`gradmesh convert IMAGE --mask WHITE.png --compact-level %d --max-error E "
+              "`gradmesh convert IMAGE --mask WHITE.png --compact-level L --max-error E "
               "--max-patches P` "
               "with a mask that is white everywhere, so the whole image is one rectangular "
-              "region; where the point gives no P: `%s`." % (COMPACT_LEVEL, " ".join(STANDIN_ARGS)))
+              "region; where the point gives no P: `%s`." % " ".join(STANDIN_ARGS))
     print("PSNR, E and uncovered are over all pixels of the image. JPEG: `jpeg_match IMAGE "
           "--whole --curve` (qualities 1–100, 4:2:0 and 4:4:4, OpenImageIO/libjpeg); its bytes "
           "at the mesh's PSNR are interpolated (log bytes linear in PSNR) on the smallest-file "
@@ -276,7 +279,7 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
     print()
     print("\n".join(curves))
     print()
-    print(table(["image", "E target", "patch budget", "regions", "patches", "E", "PSNR",
+    print(table(["image", "E target", "patch budget", "level", "regions", "patches", "E", "PSNR",
                  "compact .gmb (B)", ".gmb zipped (B)", "JPEG at same PSNR (B, interpolated)",
                  "zipped / JPEG", "smallest JPEG ≥ PSNR (B)", "end-to-end (s)", "uncovered",
                  "notes"], body))

@@ -280,24 +280,39 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         throw nameFile(e);
     }
 
+    // Compact .gmb figures are measured over the pixels "error" is (the object's, or all of
+    // them with --segment), on the decoded file's re-render: its size is weighed against its own
+    // quality, not the unquantised mesh's.
+    const std::vector<uint8_t> measured =
+        segment ? std::vector<uint8_t>(static_cast<size_t>(image.width) * image.height, 1) : mask.mask;
+    auto compactAt = [&](int level, std::string& bytes) {
+        bytes = encodeGmb(doc, true, level);
+        return compareOverMask(image, renderDocument(decodeGmb(bytes, ReadLimits{}), RenderOptions{}).image,
+                               measured);
+    };
+    WriteOptions wo = writeOptions;
+    std::string compactBytes;
+    FitError compactError;
+    const bool autoLevel = wo.compact && wo.compactLevel == kCompactLevelAuto;
+    if (autoLevel) {
+        // The coarsest level whose file adds at most 5 % (and 0.02) to the mesh's E.
+        const double meshE =
+            compareOverMask(image, renderDocument(doc, RenderOptions{}).image, measured).meanAbs;
+        for (int level = kGmbMaxCompactLevel; level >= 0; --level) {
+            compactError = compactAt(level, compactBytes);
+            wo.compactLevel = level;
+            if (compactError.meanAbs <= 1.05 * meshE + 0.02) break;
+        }
+    }
+
     t0 = Clock::now();
-    writer.write(doc, out, writeOptions);
+    writer.write(doc, out, wo);
     const double writeSeconds = since(t0);
 
     if (reportPath.empty()) return;
     const double endToEnd = since(tStart);  // what follows only measures for the report
-    // The compact .gmb (at the level asked for, 0 by default) decoded and re-rendered: its
-    // figures over the same pixels as "error" (the object's, or all of them with --segment), so
-    // that its size can be weighed against its own quality, not the unquantised mesh's.
-    const int compactLevel = writeOptions.compact ? writeOptions.compactLevel : 0;
-    const std::string compactBytes = encodeGmb(doc, true, compactLevel);
-    FitError compactError;
-    {
-        Document back = decodeGmb(compactBytes, ReadLimits{});
-        const std::vector<uint8_t> all(static_cast<size_t>(image.width) * image.height, 1);
-        compactError = compareOverMask(image, renderDocument(back, RenderOptions{}).image,
-                                       segment ? all : mask.mask);
-    }
+    const int compactLevel = wo.compact ? wo.compactLevel : 0;
+    if (!autoLevel) compactError = compactAt(compactLevel, compactBytes);
     std::error_code ec;
     const auto outBytes = std::filesystem::file_size(out, ec);
     std::ostringstream s;
@@ -319,7 +334,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         s << "null}";
     else
         s << encodeSvg(doc, WriteOptions{}).size() << "}";
-    s << ",\n  \"compact\": {\"level\": " << compactLevel << ", \"bytes\": " << compactBytes.size()
+    s << ",\n  \"compact\": {\"level\": " << compactLevel << ", \"auto\": " << (autoLevel ? "true" : "false")
+      << ", \"bytes\": " << compactBytes.size()
       << ", \"error\": " << errorJson(compactError) << "}";
     if (segment) {
         const SegmentStats& st = segReport.segmentation;

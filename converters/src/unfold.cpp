@@ -23,7 +23,7 @@ struct SampleBasis {
 };
 
 // Whether the patch's Jacobian is ≤ 0 at a sample point (countFoldedPatches' test, positions
-// only: this runs on every patch of every grid refinement builds).
+// only: this runs on every patch of every grid that refinement builds).
 bool patchFolds(const GradientMesh& mesh, int i, int j, const SampleBasis& basis) {
     const PatchHermite p = patchHermite(mesh, i, j);
     for (int a = 0; a < basis.n; ++a) {

@@ -369,9 +369,10 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
         // Stable at its own level.
         CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
     }
-    // A lossless file ignores the level; a level outside 0..3 is refused.
+    // A lossless file ignores the level; a level outside 0..kGmbMaxCompactLevel is refused.
     CHECK(gm::encodeGmb(doc, false, 3) == gm::encodeGmb(doc, false));
-    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, 4), Catch::Contains("compact level 4"));
+    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, gm::kGmbMaxCompactLevel + 1),
+                      Catch::Contains("compact level " + std::to_string(gm::kGmbMaxCompactLevel + 1)));
     CHECK_THROWS_WITH(gm::encodeGmb(doc, true, -1), Catch::Contains("compact level -1"));
 }
 

@@ -324,6 +324,8 @@ GmbCompactShifts gmbCompactShifts(int level) {
         case 1: return {1, 0, 1, 1};
         case 2: return {2, 1, 3, 3};
         case 3: return {3, 2, 3, 4};
+        case 4: return {4, 3, 4, 5};
+        case 5: return {5, 3, 5, 6};
         default:
             throw Error("compact level " + std::to_string(level) + " is not one of 0 to " +
                         std::to_string(kGmbMaxCompactLevel));

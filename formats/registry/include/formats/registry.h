@@ -26,9 +26,14 @@ struct ReadOptions {
     ReadLimits limits;
 };
 
+// WriteOptions::compactLevel of `convert IMAGE --compact-level auto`: the image conversion
+// resolves it, measuring each level's file against the image, before anything is written.
+constexpr int kCompactLevelAuto = -1;
+
 struct WriteOptions {
     bool compact = false;             // .gmb: quantised + compressed
-    int compactLevel = 0;             // .gmb compact: coarser grids, 0–3 (gmb.h, GmbCompactShifts)
+    int compactLevel = 0;             // .gmb compact: coarser grids, 0 to kGmbMaxCompactLevel
+                                      // (gmb.h), or kCompactLevelAuto (image conversions only)
     bool legacy = false;              // write every mesh as its hole-free pieces
     std::string svgColors = "exact";  // SVG: "exact" (k×k subdivision) or "editable" (bicubic)
     double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
