@@ -140,7 +140,7 @@ void requireWithinBounds(const Deviation& d, int level = 0) {
     CHECK(d.col <= std::ldexp(gm::GmbCompactBounds::color, k.color));
     CHECK(d.posTangent <= std::ldexp(gm::GmbCompactBounds::positionTangent, k.positionTangent));
     CHECK(d.colTangent <= std::ldexp(gm::GmbCompactBounds::colorTangent, k.colorTangent));
-    CHECK(d.knot <= gm::GmbCompactBounds::knotRelative);
+    CHECK(d.knot <= std::ldexp(gm::GmbCompactBounds::knotRelative, k.knot));
 }
 
 }  // namespace

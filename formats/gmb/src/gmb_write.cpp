@@ -138,8 +138,8 @@ void chooseExponents(const GradientMesh& m, const GmbCompactShifts& shift, int (
     double minStep = std::numeric_limits<double>::infinity();
     for (size_t i = 1; i < m.u.size(); ++i) minStep = std::min(minStep, m.u[i] - m.u[i - 1]);
     for (size_t j = 1; j < m.v.size(); ++j) minStep = std::min(minStep, m.v[j] - m.v[j - 1]);
-    // 2^(p-1) <= smallest interval, so the knot grid is at most 2^-21 of it.
-    e[kKnot] = binaryExponent(minStep) - 22;
+    // 2^(p-1) <= smallest interval, so the knot grid is at most 2^-21 of it (2^(shift.knot-21)).
+    e[kKnot] = binaryExponent(minStep) - 22 + shift.knot;
     // Level 0: positions on a 1/32 px grid (error <= 1/64 px), colours on 1/256 (error <= 1/512
     // < 0.5/255), position tangents on 1/8 px (error <= 1/16 px), colour tangents on 1/128
     // (error <= 1/256); coarser levels shift each grid.
@@ -320,12 +320,12 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
 
 GmbCompactShifts gmbCompactShifts(int level) {
     switch (level) {
-        case 0: return {0, 0, 0, 0};
-        case 1: return {1, 0, 1, 1};
-        case 2: return {2, 1, 3, 3};
-        case 3: return {3, 2, 3, 4};
-        case 4: return {4, 3, 4, 5};
-        case 5: return {5, 3, 5, 6};
+        case 0: return {0, 0, 0, 0, 0};
+        case 1: return {1, 0, 1, 1, 12};
+        case 2: return {2, 1, 3, 3, 12};
+        case 3: return {3, 2, 3, 4, 12};
+        case 4: return {4, 3, 4, 5, 12};
+        case 5: return {5, 3, 5, 6, 12};
         default:
             throw Error("compact level " + std::to_string(level) + " is not one of 0 to " +
                         std::to_string(kGmbMaxCompactLevel));
