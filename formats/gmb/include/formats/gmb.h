@@ -50,8 +50,8 @@ struct GmbCompactBounds {
 // Coarser compact files, for size: at level L (0 to kGmbMaxCompactLevel; 0 is the default and
 // the bounds above) each quantity's grid, and with it its bound, is 2^k times level 0's, with k
 // from gmbCompactShifts(L). Every file states its grids, so any 1.1 reader reads every level.
-// fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and 14 %
-// fewer bytes, 2 -0.2 dB / 42 %, 3 -0.6 dB / 54 %, 4 -1.9 dB / 66 %, 5 -3.8 dB / 73 %; 4 and 5
+// fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and ~15 %
+// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 74 %; 4 and 5
 // suit small, coarse meshes, where they cost little (fruits at 10 patches a region: -0.2 and
 // -0.5 dB).
 constexpr int kGmbMaxCompactLevel = 5;
