@@ -26,19 +26,15 @@ struct SampleBasis {
 // only: this runs on every patch of every grid that refinement builds).
 bool patchFolds(const GradientMesh& mesh, int i, int j, const SampleBasis& basis) {
     const PatchHermite p = patchHermite(mesh, i, j);
+    auto pos = [](const HermiteCorner& c) { return c.pos; };
+    auto posS = [](const HermiteCorner& c) { return c.posS; };
+    auto posT = [](const HermiteCorner& c) { return c.posT; };
     for (int a = 0; a < basis.n; ++a) {
         const auto &hs = basis.h[a], &dhs = basis.dh[a];
         for (int b = 0; b < basis.n; ++b) {
             const auto &ht = basis.h[b], &dht = basis.dh[b];
-            Vec2 ds, dt;
-            for (int ca = 0; ca < 2; ++ca)
-                for (int cb = 0; cb < 2; ++cb) {
-                    const HermiteCorner& c = p.corner[ca][cb];
-                    ds = ds + (dhs[ca] * ht[cb]) * c.pos + (dhs[2 + ca] * ht[cb]) * c.posS +
-                         (dhs[ca] * ht[2 + cb]) * c.posT;
-                    dt = dt + (hs[ca] * dht[cb]) * c.pos + (hs[2 + ca] * dht[cb]) * c.posS +
-                         (hs[ca] * dht[2 + cb]) * c.posT;
-                }
+            const Vec2 ds = hermiteSum<Vec2>(p, dhs.data(), ht.data(), pos, posS, posT);
+            const Vec2 dt = hermiteSum<Vec2>(p, hs.data(), dht.data(), pos, posS, posT);
             if (ds.x * dt.y - ds.y * dt.x <= 0) return true;
         }
     }

@@ -18,23 +18,6 @@ void hermiteBasisDerivative(double s, double dh[4]) {
     dh[3] = 3 * s2 - 2 * s;
 }
 
-namespace {
-// Σ over the 16 Hermite terms with zero twist: values (a,b), s-slopes, t-slopes.
-template <class T, class Get, class GetS, class GetT>
-T combine(const PatchHermite& p, const double hs[4], const double ht[4], Get value, GetS slopeS,
-          GetT slopeT) {
-    T r{};
-    for (int a = 0; a < 2; ++a) {
-        for (int b = 0; b < 2; ++b) {
-            const HermiteCorner& c = p.corner[a][b];
-            r = r + (hs[a] * ht[b]) * value(c) + (hs[2 + a] * ht[b]) * slopeS(c) +
-                (hs[a] * ht[2 + b]) * slopeT(c);
-        }
-    }
-    return r;
-}
-}  // namespace
-
 PatchPoint evaluatePatch(const PatchHermite& p, double s, double t) {
     double hs[4], ht[4], dhs[4], dht[4];
     hermiteBasis(s, hs);
@@ -48,10 +31,10 @@ PatchPoint evaluatePatch(const PatchHermite& p, double s, double t) {
     auto colS = [](const HermiteCorner& c) { return c.colS; };
     auto colT = [](const HermiteCorner& c) { return c.colT; };
     PatchPoint r;
-    r.pos = combine<Vec2>(p, hs, ht, pos, posS, posT);
-    r.col = combine<Vec3>(p, hs, ht, col, colS, colT);
-    r.posS = combine<Vec2>(p, dhs, ht, pos, posS, posT);
-    r.posT = combine<Vec2>(p, hs, dht, pos, posS, posT);
+    r.pos = hermiteSum<Vec2>(p, hs, ht, pos, posS, posT);
+    r.col = hermiteSum<Vec3>(p, hs, ht, col, colS, colT);
+    r.posS = hermiteSum<Vec2>(p, dhs, ht, pos, posS, posT);
+    r.posT = hermiteSum<Vec2>(p, hs, dht, pos, posS, posT);
     return r;
 }
 

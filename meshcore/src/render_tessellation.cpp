@@ -67,15 +67,11 @@ double colorGradientEstimate(const PatchHermite& h) {
             hermiteBasis(t, ht);
             hermiteBasisDerivative(s, dhs);
             hermiteBasisDerivative(t, dht);
-            Vec3 cs, ct;
-            for (int a = 0; a < 2; ++a)
-                for (int b = 0; b < 2; ++b) {
-                    const HermiteCorner& c = h.corner[a][b];
-                    cs = cs + (dhs[a] * ht[b]) * c.col + (dhs[2 + a] * ht[b]) * c.colS +
-                         (dhs[a] * ht[2 + b]) * c.colT;
-                    ct = ct + (hs[a] * dht[b]) * c.col + (hs[2 + a] * dht[b]) * c.colS +
-                         (hs[a] * dht[2 + b]) * c.colT;
-                }
+            auto col = [](const HermiteCorner& c) { return c.col; };
+            auto colS = [](const HermiteCorner& c) { return c.colS; };
+            auto colT = [](const HermiteCorner& c) { return c.colT; };
+            const Vec3 cs = hermiteSum<Vec3>(h, dhs, ht, col, colS, colT);
+            const Vec3 ct = hermiteSum<Vec3>(h, hs, dht, col, colS, colT);
             const double det = p.posS.x * p.posT.y - p.posS.y * p.posT.x;
             for (int k = 0; k < 3; ++k) {
                 // (c_s, c_t) · J⁻¹ with J = [posS posT].

@@ -20,4 +20,21 @@ PatchPoint evaluatePatch(const GradientMesh& mesh, int i, int j, double s, doubl
 void hermiteBasis(double s, double h[4]);
 void hermiteBasisDerivative(double s, double dh[4]);
 
+// One quantity of a patch from basis values along s (hs) and t (ht): the sum over its four
+// corners of value(c)·hs[a]·ht[b] + slopeS(c)·hs[2+a]·ht[b] + slopeT(c)·hs[a]·ht[2+b] (zero
+// twists). With a basis derivative in place of hs or ht it is the partial derivative along s
+// or t; `get*` pick the quantity (pos, posS, posT or col, colS, colT) from a corner.
+template <class T, class Get, class GetS, class GetT>
+T hermiteSum(const PatchHermite& p, const double hs[4], const double ht[4], Get value, GetS slopeS,
+             GetT slopeT) {
+    T r{};
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+            const HermiteCorner& c = p.corner[a][b];
+            r = r + (hs[a] * ht[b]) * value(c) + (hs[2 + a] * ht[b]) * slopeS(c) +
+                (hs[a] * ht[2 + b]) * slopeT(c);
+        }
+    return r;
+}
+
 }  // namespace gm
