@@ -283,12 +283,16 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     // Compact .gmb figures are measured over the pixels "error" is (the object's, or all of
     // them with --segment), on the decoded file's re-render: its size is weighed against its own
     // quality, not the unquantised mesh's.
-    const std::vector<uint8_t> measured =
-        segment ? std::vector<uint8_t>(static_cast<size_t>(image.width) * image.height, 1) : mask.mask;
+    std::vector<uint8_t> measuredMask;  // filled when first needed (auto level, report)
+    auto measured = [&]() -> const std::vector<uint8_t>& {
+        if (!segment) return mask.mask;
+        if (measuredMask.empty()) measuredMask.assign(static_cast<size_t>(image.width) * image.height, 1);
+        return measuredMask;
+    };
     auto compactAt = [&](int level, std::string& bytes) {
         bytes = encodeGmb(doc, true, level);
         return compareOverMask(image, renderDocument(decodeGmb(bytes, ReadLimits{}), RenderOptions{}).image,
-                               measured);
+                               measured());
     };
     WriteOptions wo = writeOptions;
     std::string compactBytes;
@@ -297,7 +301,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     if (autoLevel) {
         // The coarsest level whose file adds at most 5 % (and 0.02) to the mesh's E.
         const double meshE =
-            compareOverMask(image, renderDocument(doc, RenderOptions{}).image, measured).meanAbs;
+            compareOverMask(image, renderDocument(doc, RenderOptions{}).image, measured()).meanAbs;
         for (int level = kGmbMaxCompactLevel; level >= 0; --level) {
             compactError = compactAt(level, compactBytes);
             wo.compactLevel = level;
