@@ -354,7 +354,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     doc.width = image.width;
     doc.height = image.height;
     t0 = Clock::now();
-    GradientMesh base = baseMesh(image, options.basePatchSize, options.convert.threads);
+    const bool anyFailed = std::find(ok.begin(), ok.end(), 0) != ok.end();
+    GradientMesh base = baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
+                                 options.convert.threads);
     const double baseSeconds = since(t0);
     rep.basePatches = base.patchCount();
     doc.meshes.push_back(std::move(base));
