@@ -76,6 +76,14 @@ struct MeshHeader {
     uint64_t nodes() const { return satMul(columns + 1, rows + 1); }
 };
 
+// A quantisation exponent of a CMSH section or record: an svarint within ±kMaxExponent.
+int readExponent(ByteReader& r) {
+    const int64_t e = r.svarint();
+    if (e < -kMaxExponent || e > kMaxExponent)
+        r.fail("quantisation exponent " + std::to_string(e) + " out of range");
+    return static_cast<int>(e);
+}
+
 class Decoder {
 public:
     Decoder(const std::string& bytes, const ReadLimits& limits, const std::string& file)
@@ -572,12 +580,7 @@ void Decoder::readCompactMeshes(const Section& s, uint64_t meshesLeft, Document&
         r.fail("CMSH holds " + std::to_string(count) + " meshes, but the document has only " +
                std::to_string(meshesLeft) + " more");
     int shared[kFieldCount] = {};
-    for (int f = kPos; f < kFieldCount; ++f) {
-        const int64_t e = r.svarint();
-        if (e < -kMaxExponent || e > kMaxExponent)
-            r.fail("quantisation exponent " + std::to_string(e) + " out of range");
-        shared[f] = static_cast<int>(e);
-    }
+    for (int f = kPos; f < kFieldCount; ++f) shared[f] = readExponent(r);
     r.need(satMul(count, kMinMeshRecord), std::to_string(count) + " mesh records");
     const uint64_t payloadAt = s.start + kSectionHeaderSize;
     for (uint64_t k = 0; k < count; ++k) {
@@ -604,11 +607,9 @@ void Decoder::readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Do
     const uint8_t flags = r.u8();
     if (flags & ~kMeshColorByRule) r.fail("unknown mesh flags " + std::to_string(flags));
     h.byRule = flags & kMeshColorByRule;
-    const int64_t knot = r.svarint();
-    if (knot < -kMaxExponent || knot > kMaxExponent)
-        r.fail("quantisation exponent " + std::to_string(knot) + " out of range");
+    const int knot = readExponent(r);
     std::copy(std::begin(shared), std::end(shared), h.exponent);
-    h.exponent[kKnot] = static_cast<int>(knot);
+    h.exponent[kKnot] = knot;
     const std::string exponents = codedExponentProblem(h.exponent);
     if (!exponents.empty()) r.fail(exponents);
     // Range-coded values decode from a fraction of a bit each: each counts as the binary64 it

@@ -212,8 +212,9 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2, as a CMSH mesh record. False when some value does not fit the quantised grid (enormous coordinates,
-// degenerate knot spacing); the caller then writes the mesh as float64, always within bounds.
+// Encoding 2, as a CMSH mesh record. False when some value does not fit the quantised grid
+// (enormous coordinates, degenerate knot spacing); the caller then writes the mesh as float64,
+// always within bounds.
 bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
     int e[kFieldCount];
     chooseExponents(m, shift, e);
