@@ -3,8 +3,10 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -116,6 +118,7 @@ void chooseKnots(const ParamMap& map, const GridOptions& options, std::vector<do
 // ---------------------------------------------------------------------------------------------
 
 struct GridBuilder::Impl {
+    uint64_t id = 0;       // tells builders apart in the cover-chain cache (build())
     std::vector<Vec2> xy;  // image positions
     ParamMap map;          // uv per vertex
     std::vector<std::array<int, 3>> triangles;
@@ -239,6 +242,8 @@ struct GridBuilder::Impl {
 
 GridBuilder::GridBuilder(const TriMesh& mesh, const ParamMap& map) : impl_(new Impl) {
     Impl& m = *impl_;
+    static std::atomic<uint64_t> nextId{1};
+    m.id = nextId++;
     if (map.uv.size() != mesh.vertices.size())
         throw Error("grid: the parameter map does not match the triangulation's vertices");
     if (mesh.triangles.empty()) throw Error("grid: the triangulation has no triangles");
@@ -689,6 +694,43 @@ CoverChain fitCoverChain(const std::vector<Vec2>& P, const std::vector<double>& 
     return result;
 }
 
+// What one side's cover chain depends on: the builder (its map), the side, the knots along it,
+// the fixed parameter and the inward offset of the other direction, and the fit's settings.
+struct CoverKey {
+    uint64_t builder = 0;
+    int side = 0;
+    std::vector<double> knots;
+    double fixed = 0, inward = 0, cover = 0, slack = 0, tangentLimit = 0;
+    int samples = 0;
+    bool operator==(const CoverKey& o) const {
+        return builder == o.builder && side == o.side && fixed == o.fixed && inward == o.inward &&
+               cover == o.cover && slack == o.slack && tangentLimit == o.tangentLimit &&
+               samples == o.samples && knots == o.knots;
+    }
+};
+
+// The last few cover chains fitted on this thread. Refinement rebuilds the grid for every
+// trial split, and a split along u leaves the left and right sides' chains as they were (one
+// along v the top and bottom): those are not fitted again. Per thread, so that regions
+// converted in parallel need no lock.
+const CoverChain& cachedCoverChain(CoverKey key, const std::function<CoverChain()>& fit) {
+    constexpr size_t kEntries = 16;
+    thread_local std::deque<std::pair<CoverKey, CoverChain>> cache;
+    for (auto it = cache.begin(); it != cache.end(); ++it)
+        if (it->first == key) {
+            if (it != cache.begin()) {
+                auto entry = std::move(*it);
+                cache.erase(it);
+                cache.push_front(std::move(entry));
+            }
+            return cache.front().second;
+        }
+    CoverChain chain = fit();
+    if (cache.size() >= kEntries) cache.pop_back();
+    cache.emplace_front(std::move(key), std::move(chain));
+    return cache.front().second;
+}
+
 }  // namespace
 
 GradientMesh GridBuilder::build(const GridOptions& options) const {
@@ -755,22 +797,27 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
             const double inward = fixedIndex == 0 ? 0.5 * (other[1] - other[0])
                                                   : -0.5 * (other[fixedIndex] - other[fixedIndex - 1]);
             const int N = static_cast<int>(k.size()) - 1;
-            std::vector<Vec2> P, inside;
-            std::vector<double> delta;
-            for (int a = 0; a <= N; ++a)
-                P.push_back(alongU ? mesh.node(a, fixedIndex).pos : mesh.node(fixedIndex, a).pos);
-            for (int a = 0; a < N; ++a) {
-                delta.push_back(k[a + 1] - k[a]);
-                const double mid = 0.5 * (k[a] + k[a + 1]);
-                inside.push_back(alongU ? m.position(mid, fixed + inward, 0)
-                                        : m.position(fixed + inward, mid, 0));
-            }
-            auto outlineAt = [&](int a, double t) {
-                const double p = k[a] + t * (k[a + 1] - k[a]);
-                return alongU ? m.position(p, fixed, 0) : m.position(fixed, p, 0);
+            auto fit = [&]() {
+                std::vector<Vec2> P, inside;
+                std::vector<double> delta;
+                for (int a = 0; a <= N; ++a)
+                    P.push_back(alongU ? mesh.node(a, fixedIndex).pos : mesh.node(fixedIndex, a).pos);
+                for (int a = 0; a < N; ++a) {
+                    delta.push_back(k[a + 1] - k[a]);
+                    const double mid = 0.5 * (k[a] + k[a + 1]);
+                    inside.push_back(alongU ? m.position(mid, fixed + inward, 0)
+                                            : m.position(fixed + inward, mid, 0));
+                }
+                auto outlineAt = [&](int a, double t) {
+                    const double p = k[a] + t * (k[a + 1] - k[a]);
+                    return alongU ? m.position(p, fixed, 0) : m.position(fixed, p, 0);
+                };
+                return fitCoverChain(P, delta, outlineAt, inside, tau, options.outlineCover,
+                                     options.outlineSlack, options.tangentLimit);
             };
-            cover.push_back(fitCoverChain(P, delta, outlineAt, inside, tau, options.outlineCover,
-                                          options.outlineSlack, options.tangentLimit));
+            cover.push_back(cachedCoverChain({m.id, side, k, fixed, inward, options.outlineCover,
+                                              options.outlineSlack, options.tangentLimit, nSamples},
+                                             fit));
         }
     }
 
