@@ -13,6 +13,7 @@
 #include "converters/regions.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
+#include "meshcore/validate.h"
 
 namespace gm {
 
@@ -151,6 +152,13 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
                                    const std::vector<uint8_t>& under, const ConvertOptions& coAll,
                                    const SegmentConvertOptions& options, int depth);
 
+// The inverted area (foldedArea) of some meshes, pixels.
+double foldedAreaOf(const std::vector<GradientMesh>& meshes) {
+    double area = 0;
+    for (const GradientMesh& m : meshes) area += foldedArea(m);
+    return area;
+}
+
 // The region cut at `cut`, each side's pieces converted by convertSegmentRegion (side 1 drawn
 // first, reaching under side 2), sharing the region's budget co.maxPatches by their pixels; how
 // 4, or how 0 when nothing converted. `complete`: every piece converted.
@@ -219,23 +227,33 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     const ConvertOptions co = budgetFor(own, coAll, options);
     RegionOutcome out = convertWhole(image, own, under, co, options);
     const double target = co.maxError * options.neckErrorFactor;
+    const bool mayCut = depth < options.neckSplits && own.pixelCount >= options.neckMinPixels;
+    const double folded = mayCut && out.how != 0 && options.foldedArea > 0 ? foldedAreaOf(out.meshes) : 0;
+    const bool folds = folded > options.foldedArea;
     std::optional<NeckCut> cut;
-    if (depth < options.neckSplits && own.pixelCount >= options.neckMinPixels &&
-        (out.how == 0 || out.report.error.meanAbs > target))
+    if (mayCut && (out.how == 0 || out.report.error.meanAbs > target || folds))
         cut = findNeck(own, options.neck);
     RegionOutcome split;
     bool complete = false;
     if (cut) split = convertSides(image, own, under, co, options, depth, *cut, complete);
     auto take = [&](RegionOutcome& whole) {
         const double e = whole.report.error.meanAbs;
-        const bool better = split.how != 0 &&
-                            (whole.how == 0 ||
-                             (split.report.error.meanAbs < 0.95 * e &&
-                              split.report.error.uncovered <= whole.report.error.uncovered + 0.001));
+        const bool covers =
+            split.report.error.uncovered <= whole.report.error.uncovered + 0.001;
+        const double splitFolded = folds && split.how != 0 ? foldedAreaOf(split.meshes) : 0;
+        const bool unfolds = folds && split.how != 0 && covers &&
+                             split.report.error.meanAbs <= 1.1 * e && splitFolded <= folded / 2;
+        const bool better =
+            split.how != 0 &&
+            (whole.how == 0 || (split.report.error.meanAbs < 0.95 * e && covers) || unfolds);
         if (!better) return std::move(whole);
-        char buf[64];
+        char buf[120];
         std::snprintf(buf, sizeof buf, ": E %.2f -> %.2f", e, split.report.error.meanAbs);
         if (whole.how != 0) split.fallback += buf;
+        if (unfolds) {
+            std::snprintf(buf, sizeof buf, ", folded area %.0f -> %.0f px", folded, splitFolded);
+            split.fallback += buf;
+        }
         split.fallback += split.sideNotes;
         if (!whole.fallback.empty()) split.fallback += "; whole: " + whole.fallback;
         return std::move(split);

@@ -97,4 +97,20 @@ int countFoldedPatches(const GradientMesh& mesh, int samples) {
     return folded;
 }
 
+double foldedArea(const GradientMesh& mesh, int samples) {
+    double area = 0;
+    const double weight = 1.0 / (double(samples) * samples);
+    for (int j = 0; j < mesh.rows(); ++j)
+        for (int i = 0; i < mesh.columns(); ++i) {
+            const PatchHermite h = patchHermite(mesh, i, j);
+            for (int a = 0; a < samples; ++a)
+                for (int b = 0; b < samples; ++b) {
+                    const PatchPoint p = evaluatePatch(h, (a + 0.5) / samples, (b + 0.5) / samples);
+                    const double jac = p.posS.x * p.posT.y - p.posS.y * p.posT.x;
+                    if (jac < 0) area -= jac * weight;
+                }
+        }
+    return area;
+}
+
 }  // namespace gm

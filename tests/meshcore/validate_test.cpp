@@ -73,3 +73,35 @@ TEST_CASE("folded patches are counted", "[validate][folds]") {
     for (Node& k : l.nodes) k.posU = -3.0 * k.posU;
     CHECK(countFoldedPatches(l) == 1);
 }
+
+TEST_CASE("folded area is the inverted sheets' area in pixels", "[validate][folds]") {
+    // A bilinear 1×1 patch over a 40×30 rectangle: Jacobian constant, area 1200.
+    auto square = [](double w, double h) {
+        GradientMesh m(1, 1);
+        m.u = {0, 1};
+        m.v = {0, 1};
+        for (int j = 0; j <= 1; ++j)
+            for (int i = 0; i <= 1; ++i) {
+                Node& n = m.node(i, j);
+                n.pos = {i * w, j * h};
+                n.posU = {w, 0};
+                n.posV = {0, h};
+            }
+        return m;
+    };
+    CHECK(foldedArea(square(40, 30)) == 0.0);
+    CHECK(foldedArea(makeCurvedMesh(5, 4, 0, 0, 100, 100)) == 0.0);
+    // Mirrored in x: the whole patch is inverted.
+    GradientMesh mirrored = square(40, 30);
+    for (Node& n : mirrored.nodes) {
+        n.pos.x = -n.pos.x;
+        n.posU.x = -n.posU.x;
+    }
+    CHECK(foldedArea(mirrored) == Approx(1200.0).epsilon(1e-9));
+    // One interior node dragged across its neighbour: some area inverts, less than the mesh's.
+    GradientMesh m = makeCurvedMesh(5, 4, 0, 0, 100, 100);
+    m.node(2, 2).pos = m.node(4, 2).pos + Vec2{5, 0};
+    const double area = foldedArea(m);
+    CHECK(area > 10.0);
+    CHECK(area < 100.0 * 100.0);
+}

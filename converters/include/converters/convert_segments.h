@@ -41,6 +41,12 @@ struct SegmentConvertOptions {
     int neckMinPixels = 2000;
     double neckErrorFactor = 1.1;
     NeckOptions neck;
+    // A region whose mesh has inverted sheets of more than foldedArea pixels (meshcore's
+    // foldedArea: a grid fanned into a narrow notch between two limbs folds over it and paints
+    // the regions drawn before it, which the region's own error does not see) is cut at its
+    // neck the same way. The cut is kept when it halves the inverted area without raising the
+    // region's error by more than 10 %. 0: never.
+    double foldedArea = 40;
     // Pixels per patch side of the base mesh: basePatchSize when a region failed (the base
     // mesh then paints all of it), else coarseBasePatchSize (it only fills the slivers no
     // region mesh reaches, ~0.2 % of the pixels at the smallest budgets, and at 64 px it was
