@@ -228,7 +228,12 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     RegionOutcome out = convertWhole(image, own, under, co, options);
     const double target = co.maxError * options.neckErrorFactor;
     const bool mayCut = depth < options.neckSplits && own.pixelCount >= options.neckMinPixels;
-    const double folded = mayCut && out.how != 0 && options.foldedArea > 0 ? foldedAreaOf(out.meshes) : 0;
+    // Folds matter where they paint over regions drawn before this one: the first region drawn
+    // has none (whatever it spills over is painted again by the later ones).
+    bool earlier = false;
+    for (size_t p = 0; p < under.size() && !earlier; ++p) earlier = !own.mask[p] && !under[p];
+    const double folded =
+        mayCut && earlier && out.how != 0 && options.foldedArea > 0 ? foldedAreaOf(out.meshes) : 0;
     const bool folds = folded > options.foldedArea;
     std::optional<NeckCut> cut;
     if (mayCut && (out.how == 0 || out.report.error.meanAbs > target || folds))
@@ -311,7 +316,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     auto t0 = Clock::now();
     Segmentation seg;
     try {
-        seg = segmentImage(image, options.segment);
+        SegmentOptions so = options.segment;
+        if (so.threads == 0) so.threads = options.threads;
+        seg = segmentImage(image, so);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw Error("segmentation: " + e.reason(), imageName);

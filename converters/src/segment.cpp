@@ -4,11 +4,13 @@
 #include <opencv2/ximgproc/segmentation.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <queue>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 
@@ -167,7 +169,7 @@ std::vector<Segment> describeSegments(const cv::Mat& bgr, const std::vector<int>
 
 // Returns the pixels whose label changed; pixels no segment claims become -1.
 long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, int band,
-                       int iterations, long minPixels, SegmentStats& st) {
+                       int iterations, long minPixels, int threads, SegmentStats& st) {
     const int W = bgr.cols, H = bgr.rows;
     const size_t N = labels.size();
     const auto segs = describeSegments(bgr, labels, count);
@@ -176,9 +178,17 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
     std::vector<float> claimDist(N, std::numeric_limits<float>::infinity());
     const int margin = band + std::max(8, 2 * band);  // colour context beyond the band
 
-    for (int s = 0; s < count; ++s) {
+    // GrabCut per segment is independent of the others (it reads the labels and the image
+    // only): segments run in parallel, a batch at a time, and are merged in segment order, so
+    // that the result does not depend on the thread count.
+    struct Cut {
+        cv::Rect roi;
+        cv::Mat before, mask;  // empty: the segment is left as it is
+    };
+    auto cutSegment = [&](int s) {
+        Cut cut;
         const Segment& seg = segs[s];
-        if (seg.pixels < std::max(minPixels, 16L) || seg.pixels == static_cast<long>(N)) continue;
+        if (seg.pixels < std::max(minPixels, 16L) || seg.pixels == static_cast<long>(N)) return cut;
         const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
         const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
         const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
@@ -209,10 +219,10 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
                 }
             }
         }
-        if (fg < 16 || bg < 16) continue;  // GrabCut's colour models need samples
+        if (fg < 16 || bg < 16) return cut;  // GrabCut's colour models need samples
         cv::Mat before = mask.clone(), bgdModel, fgdModel;
         // GrabCut seeds its colour models with k-means on OpenCV's (thread-local) random
-        // generator: a fixed seed per segment makes the result reproducible; the caller's
+        // generator: a fixed seed per segment makes the result reproducible; the thread's
         // generator state is restored.
         const uint64_t savedRng = cv::theRNG().state;
         cv::theRNG().state = 0x9e3779b97f4a7c15ULL ^ static_cast<uint64_t>(s + 1);
@@ -224,16 +234,25 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
             ok = false;  // e.g. a degenerate colour model: leave this segment as it is
         }
         cv::theRNG().state = savedRng;
-        if (!ok) continue;
+        if (!ok) return cut;
+        cut.roi = roi;
+        cut.before = std::move(before);
+        cut.mask = std::move(mask);
+        return cut;
+    };
+    auto merge = [&](int s, const Cut& cut) {
+        if (cut.mask.empty()) return;
+        const Segment& seg = segs[s];
+        const cv::Rect& roi = cut.roi;
         ++st.grabCutSegments;
         st.grabCutPixels += static_cast<long>(roi.area());
         for (int y = 0; y < roi.height; ++y) {
-            const auto* b = before.ptr<uint8_t>(y);
-            const auto* m = mask.ptr<uint8_t>(y);
-            const auto* colour = bgr.ptr<cv::Vec3b>(y + ry0) + rx0;
+            const auto* b = cut.before.ptr<uint8_t>(y);
+            const auto* m = cut.mask.ptr<uint8_t>(y);
+            const auto* colour = bgr.ptr<cv::Vec3b>(y + roi.y) + roi.x;
             for (int x = 0; x < roi.width; ++x) {
                 if (b[x] != cv::GC_PR_FGD && b[x] != cv::GC_PR_BGD) continue;
-                const size_t p = static_cast<size_t>(y + ry0) * W + (x + rx0);
+                const size_t p = static_cast<size_t>(y + roi.y) * W + (x + roi.x);
                 const bool isFg = (m[x] & 1) != 0;
                 if (b[x] == cv::GC_PR_FGD) {
                     if (!isFg) ownerSaysBg[p] = 1;
@@ -246,6 +265,22 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
                 }
             }
         }
+    };
+    const int hw = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    const int workers = std::max(1, std::min(threads > 0 ? threads : hw, count));
+    const int batch = 4 * workers;
+    for (int first = 0; first < count; first += batch) {
+        const int n = std::min(batch, count - first);
+        std::vector<Cut> cuts(static_cast<size_t>(n));
+        std::atomic<int> next{0};
+        auto work = [&]() {
+            for (int k; (k = next.fetch_add(1)) < n;) cuts[static_cast<size_t>(k)] = cutSegment(first + k);
+        };
+        std::vector<std::thread> pool;
+        for (int w = 1; w < std::min(workers, n); ++w) pool.emplace_back(work);
+        work();
+        for (std::thread& t : pool) t.join();
+        for (int k = 0; k < n; ++k) merge(first + k, cuts[static_cast<size_t>(k)]);
     }
     long changed = 0;
     for (size_t p = 0; p < N; ++p)
@@ -601,7 +636,7 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
             (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
         st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
                                               std::max(1, options.grabCutIterations),
-                                              minPixels, st);
+                                              minPixels, options.threads, st);
         seg.labels = gc.cols == W && gc.rows == H
                          ? std::move(labels)
                          : upscaleLabels(labels, gc.cols, gc.rows, W, H);

@@ -128,6 +128,20 @@ TEST_CASE("a large image is refined at GrabCut's resolution cap", "[segment][sam
     CHECK(labelMapProblem(s, defaultMinRegion(image.width, image.height)) == "");
 }
 
+TEST_CASE("GrabCut refinement gives the same labels on one thread and on several",
+          "[segment][samples]") {
+    const auto image = sample("fruits.jpg");
+    SegmentOptions one, many;
+    one.threads = 1;
+    many.threads = 3;  // more threads than cores: batches and merge order still fixed
+    const auto a = segmentImage(image, one), b = segmentImage(image, many);
+    CHECK(a.stats.grabCutSegments > 1);
+    CHECK(a.stats.grabCutSegments == b.stats.grabCutSegments);
+    CHECK(a.stats.grabCutChanged == b.stats.grabCutChanged);
+    CHECK(a.count == b.count);
+    CHECK(a.labels == b.labels);
+}
+
 TEST_CASE("more segments asked for give more regions", "[segment][samples]") {
     const auto image = sample("fruits.jpg");
     SegmentOptions few, many;

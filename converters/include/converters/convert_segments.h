@@ -45,7 +45,8 @@ struct SegmentConvertOptions {
     // foldedArea: a grid fanned into a narrow notch between two limbs folds over it and paints
     // the regions drawn before it, which the region's own error does not see) is cut at its
     // neck the same way. The cut is kept when it halves the inverted area without raising the
-    // region's error by more than 10 %. 0: never.
+    // region's error by more than 10 %. Not for a region drawn first (nothing beneath it but the
+    // base mesh). 0: never.
     double foldedArea = 40;
     // Pixels per patch side of the base mesh: basePatchSize when a region failed (the base
     // mesh then paints all of it), else coarseBasePatchSize (it only fills the slivers no

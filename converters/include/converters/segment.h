@@ -51,6 +51,7 @@ struct SegmentOptions {
     // Segments smaller than this many (full-size) pixels are not refined by GrabCut (their
     // boundary stays as FH drew it); 0 = minRegion.
     int grabCutMinPixels = 0;
+    int threads = 0;  // segments refined by GrabCut at once (0: all hardware threads)
     // Regions no wider than this (every pixel within (sliverWidth-1)/2 steps of another
     // region) are merged like tiny ones: FH leaves such slivers along blurred edges. Applied to
     // FH's result on the working image and to the final labels. 0 = keep slivers.
