@@ -122,6 +122,57 @@ std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& i
     return out;
 }
 
+// Knots of `go` plus the first `count` splits of `batch`.
+GridOptions withSplits(GridOptions go, const std::vector<const Candidate*>& batch, size_t count) {
+    for (size_t k = 0; k < count; ++k)
+        (batch[k]->alongU ? go.knotsU : go.knotsV).push_back(batch[k]->knot);
+    std::sort(go.knotsU.begin(), go.knotsU.end());
+    std::sort(go.knotsV.begin(), go.knotsV.end());
+    return go;
+}
+
+// A batch whose mesh `whole` overshoots the target: the shortest prefix of it (in rank order)
+// that still reaches the target, so that the last step does not add patches the target does
+// not ask for. E is taken as linear in the splits' summed scores between the two nearest known
+// prefixes (regula falsi: `cur` is the empty prefix, `whole` the full batch); each guess costs a
+// fit, so none is tried when it would save under 2 % of the patches the batch adds, and at most
+// options.trimSteps are. `whole` becomes the mesh of the returned prefix length.
+size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& cur,
+                 ColorResult& whole, const GridOptions& go, const GridBuilder& grid,
+                 const RgbaImage& image, const Region& region, const ColorOptions& co,
+                 const RefineOptions& options) {
+    std::vector<double> score(batch.size() + 1, 0.0);  // summed over the first k splits
+    for (size_t k = 0; k < batch.size(); ++k) score[k + 1] = score[k] + batch[k]->score;
+    const long before = cur.mesh.patchCount();
+    auto patchesOf = [&](size_t count) {
+        long nu = 0, nv = 0;
+        for (size_t k = 0; k < count; ++k) (batch[k]->alongU ? nu : nv) += 1;
+        return (cur.mesh.columns() + nu) * (cur.mesh.rows() + nv);
+    };
+    size_t lo = 0, hi = batch.size();
+    double eLo = cur.error.meanAbs, eHi = whole.error.meanAbs;
+    for (int step = 0; step < options.trimSteps && hi - lo > 1 && eLo > eHi; ++step) {
+        const double need = std::clamp((eLo - options.maxError) / (eLo - eHi), 0.0, 1.0);
+        const double at = score[lo] + need * (score[hi] - score[lo]);
+        // The first prefix whose score reaches the interpolated need (hi: none shorter does).
+        const size_t k = std::max<size_t>(
+            lo + 1,
+            std::lower_bound(score.begin() + lo + 1, score.begin() + hi, at) - score.begin());
+        if (k >= hi || patchesOf(hi) - patchesOf(k) < 0.02 * (patchesOf(batch.size()) - before))
+            break;
+        ColorResult r = computeColors(grid.build(withSplits(go, batch, k)), image, region, co);
+        if (r.error.meanAbs <= options.maxError) {
+            hi = k;
+            eHi = r.error.meanAbs;
+            whole = std::move(r);
+        } else {
+            lo = k;
+            eLo = r.error.meanAbs;
+        }
+    }
+    return hi;
+}
+
 }  // namespace
 
 RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
@@ -161,35 +212,10 @@ RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, con
                 batch.push_back(&c);
             }
             if (batch.size() > 1) {
-                GridOptions trial = go;
-                for (const Candidate* c : batch)
-                    (c->alongU ? trial.knotsU : trial.knotsV).push_back(c->knot);
-                std::sort(trial.knotsU.begin(), trial.knotsU.end());
-                std::sort(trial.knotsV.begin(), trial.knotsV.end());
-                ColorResult r = computeColors(grid.build(trial), image, region, co);
-                if (r.error.meanAbs <= options.maxError && options.trimSteps > 0) {
-                    // The batch overshoots the target: the shortest prefix of it (in rank
-                    // order) that still reaches the target, by bisection, so that the last
-                    // step does not add patches the target does not ask for.
-                    size_t lo = 0, hi = batch.size();
-                    for (int step = 0; step < options.trimSteps && hi - lo > 1; ++step) {
-                        const size_t mid = (lo + hi) / 2;
-                        GridOptions shorter = go;
-                        for (size_t k = 0; k < mid; ++k)
-                            (batch[k]->alongU ? shorter.knotsU : shorter.knotsV)
-                                .push_back(batch[k]->knot);
-                        std::sort(shorter.knotsU.begin(), shorter.knotsU.end());
-                        std::sort(shorter.knotsV.begin(), shorter.knotsV.end());
-                        ColorResult rs = computeColors(grid.build(shorter), image, region, co);
-                        if (rs.error.meanAbs <= options.maxError) {
-                            hi = mid;
-                            r = std::move(rs);
-                        } else {
-                            lo = mid;
-                        }
-                    }
-                    batch.resize(hi);
-                }
+                ColorResult r = computeColors(grid.build(withSplits(go, batch, batch.size())),
+                                              image, region, co);
+                if (r.error.meanAbs <= options.maxError && options.trimSteps > 0)
+                    batch.resize(trimBatch(batch, cur, r, go, grid, image, region, co, options));
                 if (r.error.meanAbs < cur.error.meanAbs) {
                     cur = std::move(r);
                     go.knotsU = cur.mesh.u;

@@ -37,7 +37,8 @@ struct RefineOptions {
     double batchGrowth = 1.4;
     double batchFraction = 0.25;
     // A batch that reaches the target is cut to its shortest prefix that still does, in at
-    // most this many bisection steps (each one more fit); 0: the whole batch is kept.
+    // most this many guesses (each one more fit; E interpolated in the splits' summed scores,
+    // no guess when it would save under 2 % of the batch's patches); 0: the whole batch is kept.
     int trimSteps = 4;
     double minInterval = 1.0;  // intervals shorter than this (parameter units ≈ pixels) are
                                // not split
