@@ -3,7 +3,9 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <memory>
+#include <thread>
 
 #include "converters/boundary.h"
 #include "converters/corners.h"
@@ -133,28 +135,39 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     bf.maxPatches = options.maxPatches;
     bf.tolerance = options.outlineTolerance;
     bf.holeTolerance = options.holeTolerance;
-    g->grid = std::make_unique<GridBuilder>(g->tri, g->feature.map);
-    g->go = base;
-    g->fitted = fitBoundary(*g->grid, g->go, bf);
-    coverOutline(*g->grid, g->go, g->fitted, options.outlineCover, options.outlineTolerance);
-    g->foldedPatches = countFoldedPatches(g->grid->build(g->go));
-    if (g->foldedPatches > 0) {
-        // Stretch minimisation can bend the iso-curves more than cubic patches between the
-        // knots follow (thin limbs of a silhouette): their patches fold. The topology map's
-        // iso-curves are smoother; it is kept when its grid folds less.
-        auto grid = std::make_unique<GridBuilder>(g->tri, g->topo.map);
-        GridOptions go = base;
-        BoundaryFitResult fitted = fitBoundary(*grid, go, bf);
-        coverOutline(*grid, go, fitted, options.outlineCover, options.outlineTolerance);
-        const int folded = countFoldedPatches(grid->build(go));
-        if (folded < g->foldedPatches) {
-            g->grid = std::move(grid);
-            g->go = std::move(go);
-            g->fitted = fitted;
-            g->foldedPatches = folded;
+    struct Candidate {
+        std::unique_ptr<GridBuilder> grid;
+        GridOptions go;
+        BoundaryFitResult fitted;
+        int folded = 0;
+    };
+    auto candidate = [&](const ParamMap& map) {
+        Candidate c{std::make_unique<GridBuilder>(g->tri, map), base, {}, 0};
+        c.fitted = fitBoundary(*c.grid, c.go, bf);
+        coverOutline(*c.grid, c.go, c.fitted, options.outlineCover, options.outlineTolerance);
+        c.folded = countFoldedPatches(c.grid->build(c.go));
+        return c;
+    };
+    // Stretch minimisation can bend the iso-curves more than cubic patches between the knots
+    // follow (thin limbs of a silhouette): their patches fold. The topology map's iso-curves are
+    // smoother; its grid is kept when it folds less. It is needed only when the feature map's
+    // grid folds, so it is built beside that one when a core is free (object mode), after it
+    // otherwise (regions converted in parallel).
+    std::future<Candidate> topology;
+    if (options.threads != 1 && std::thread::hardware_concurrency() > 1)
+        topology = std::async(std::launch::async, candidate, std::cref(g->topo.map));
+    Candidate best = candidate(g->feature.map);
+    if (best.folded > 0) {
+        Candidate other = topology.valid() ? topology.get() : candidate(g->topo.map);
+        if (other.folded < best.folded) {
+            best = std::move(other);
             g->featureMapUsed = false;
         }
     }
+    g->grid = std::move(best.grid);
+    g->go = std::move(best.go);
+    g->fitted = best.fitted;
+    g->foldedPatches = best.folded;
     g->seconds.mesh = since(t0);
     return g;
 }
