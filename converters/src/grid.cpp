@@ -175,6 +175,16 @@ struct GridBuilder::Impl {
     Hit locate(Vec2 p, int side) const {
         const double tol = 1e-10;
         Hit hit, preferred;
+        // Points come in runs along grid lines: most fall in the triangle the previous one of
+        // this thread fell in (the buckets hold a few triangles each; this is one test).
+        // (Builders are told apart by id: a new one may live where a freed one did.)
+        thread_local uint64_t lastOwner = 0;
+        thread_local int lastTri = -1;
+        if (side == 0 && lastOwner == id && barycentric(lastTri, p, hit.l) && hit.l[0] >= -tol &&
+            hit.l[1] >= -tol && hit.l[2] >= -tol) {
+            hit.tri = lastTri;
+            return snapped(hit);
+        }
         const int cu = cellU(p.x), cv = cellV(p.y);
         const int cell = cv * nu + cu;
         for (int k = cellStart[cell]; k < cellStart[cell + 1]; ++k) {
@@ -210,7 +220,7 @@ struct GridBuilder::Impl {
                         if (std::max(std::abs(x - cu), std::abs(y - cv)) != r) continue;
                         const int c = y * nu + x;
                         for (int k = cellStart[c]; k < cellStart[c + 1]; ++k) {
-                            double l[3];
+                            double l[3] = {0, 0, 0};
                             const double d2 = closest(cellTris[k], p, l);
                             if (d2 < best) {
                                 best = d2;
@@ -223,7 +233,13 @@ struct GridBuilder::Impl {
             }
         }
         assert(hit.tri >= 0);
-        // Snap: a point on an edge (the domain boundary, a slit) interpolates that edge only.
+        lastOwner = id;
+        lastTri = hit.tri;
+        return snapped(hit);
+    }
+
+    // Snap: a point on an edge (the domain boundary, a slit) interpolates that edge only.
+    static Hit snapped(Hit hit) {
         double sum = 0;
         for (double& x : hit.l) {
             if (x < 1e-12) x = 0;
