@@ -547,6 +547,43 @@ TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[con
     CHECK(o.report.error.uncovered < 0.001);
 }
 
+TEST_CASE("the topology map's grid built beside the feature map's gives the meshes of one thread",
+          "[convert][folds][threads]") {
+    // With a core to spare (ConvertOptions::threads != 1) the topology map's boundary-fitted
+    // grid is built on a second thread while the feature map's is; with threads = 1 after it.
+    // The horse's parts use both maps (some grids fold on the feature map), so both paths run.
+    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/horse.png");
+    ObjectMask mask;
+    mask.width = image.width;
+    mask.height = image.height;
+    mask.source = MaskSource::MaskImage;
+    mask.mask.resize(static_cast<size_t>(image.width) * image.height);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = image.at(x, y);
+            mask.mask[static_cast<size_t>(y) * image.width + x] = (p[0] + p[1] + p[2]) / 3 < 0.5f;
+        }
+    ConvertOptions beside, after;
+    beside.threads = 0;
+    after.threads = 1;
+    const Outcome a = convert(image, mask, beside, "horse");
+    const Outcome b = convert(image, mask, after, "horse");
+    requireConverted(a, "horse, threads 0");
+    requireConverted(b, "horse, threads 1");
+    int topology = 0;
+    REQUIRE(a.report.regions.size() == b.report.regions.size());
+    for (size_t k = 0; k < a.report.regions.size(); ++k) {
+        CHECK(a.report.regions[k].featureMapUsed == b.report.regions[k].featureMapUsed);
+        topology += !a.report.regions[k].featureMapUsed;
+    }
+    CHECK(topology > 0);
+    REQUIRE(a.doc.meshes.size() == b.doc.meshes.size());
+    for (size_t k = 0; k < a.doc.meshes.size(); ++k) {
+        INFO("mesh " << k);
+        CHECK(a.doc.meshes[k] == b.doc.meshes[k]);
+    }
+}
+
 TEST_CASE("small holes keep their pixels unpainted: hole outlines have a tighter tolerance", "[convert][holes][small]") {
     // Eight holes of radius 4-7 px (50-150 px each): a half-pixel stray of their outline would
     // paint a large share of them.
