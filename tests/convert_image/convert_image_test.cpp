@@ -514,11 +514,11 @@ TEST_CASE("a thin branching part that no map handles is converted in tiles", "[c
     CHECK(o.report.error.meanAbs < 1.5);
 }
 
-TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[convert][folds]") {
-    // Stretch minimisation bends the map's iso-curves around the legs, neck and tail more than
-    // cubic patches between knots follow: on this silhouette its grid folded 250 of ~400
-    // patches. The topology map's grid is used where it folds less.
-    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/horse.png");
+namespace {
+
+// The dark pixels of an opaque image as its object (horse.png's silhouette, as
+// bench/make_samples makes its mask).
+ObjectMask darkSilhouette(const RgbaImage& image) {
     ObjectMask mask;
     mask.width = image.width;
     mask.height = image.height;
@@ -526,9 +526,20 @@ TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[con
     mask.mask.resize(static_cast<size_t>(image.width) * image.height);
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            const float* p = image.at(x, y);  // the silhouette is dark (as bench/make_samples)
+            const float* p = image.at(x, y);
             mask.mask[static_cast<size_t>(y) * image.width + x] = (p[0] + p[1] + p[2]) / 3 < 0.5f;
         }
+    return mask;
+}
+
+}  // namespace
+
+TEST_CASE("horse.png's silhouette gives meshes whose patches do not fold", "[convert][folds]") {
+    // Stretch minimisation bends the map's iso-curves around the legs, neck and tail more than
+    // cubic patches between knots follow: on this silhouette its grid folded 250 of ~400
+    // patches. The topology map's grid is used where it folds less.
+    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/horse.png");
+    const ObjectMask mask = darkSilhouette(image);
     const Outcome o = convert(image, mask, ConvertOptions{}, "horse");
     requireConverted(o, "horse");
     saveRender(o.render, "horse_folds.png");
@@ -553,16 +564,7 @@ TEST_CASE("the topology map's grid built beside the feature map's gives the mesh
     // grid is built on a second thread while the feature map's is; with threads = 1 after it.
     // The horse's parts use both maps (some grids fold on the feature map), so both paths run.
     const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/horse.png");
-    ObjectMask mask;
-    mask.width = image.width;
-    mask.height = image.height;
-    mask.source = MaskSource::MaskImage;
-    mask.mask.resize(static_cast<size_t>(image.width) * image.height);
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            const float* p = image.at(x, y);
-            mask.mask[static_cast<size_t>(y) * image.width + x] = (p[0] + p[1] + p[2]) / 3 < 0.5f;
-        }
+    const ObjectMask mask = darkSilhouette(image);
     ConvertOptions beside, after;
     beside.threads = 0;
     after.threads = 1;
