@@ -25,7 +25,8 @@ namespace gm {
 
 const std::set<std::string> kImageValuedOptions = {
     "--mask", "--max-error", "--max-patches", "--report", "--colors", "--max-pixels",
-    "--min-area", "--min-hole", "--samples", "--segments", "--min-region", "--threads"};
+    "--min-area", "--min-hole", "--samples", "--segments", "--min-region", "--threads",
+    "--total-patches"};
 const std::set<std::string> kImageFlagOptions = {"--segment"};
 
 const char* kImageConvertHelp =
@@ -49,6 +50,9 @@ const char* kImageConvertHelp =
     "  --segments N            with --segment: roughly how many regions (default: automatic)\n"
     "  --min-region N          with --segment: merge regions under N pixels into a neighbour\n"
     "                          (default: scaled to the image)\n"
+    "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
+    "                          out where it lowers the error most (each region converted at\n"
+    "                          several budgets; --max-error still stops each region)\n"
     "  --threads N             regions converted at once (default: all cores)\n";
 
 namespace {
@@ -218,9 +222,10 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
     so.segment.minRegion = static_cast<int>(number(values, "--min-region", 0, 1, 1e9));
     so.threads = static_cast<int>(number(values, "--threads", 0, 1, 1024));
+    so.totalPatches = static_cast<int>(number(values, "--total-patches", 0, 1, 1e8));
     co.threads = so.threads;
     if (!segment)
-        for (const char* o : {"--segments", "--min-region"})
+        for (const char* o : {"--segments", "--min-region", "--total-patches"})
             if (values.count(o)) throw std::invalid_argument(std::string(o) + " needs --segment");
     if (segment && values.count("--mask"))
         throw std::invalid_argument("--segment converts the whole image; it takes no --mask");
@@ -352,6 +357,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
           << ", \"split_at_necks\": " << segReport.splitRegions
           << ", \"base_patches\": " << segReport.basePatches
           << ", \"region_uncovered\": " << num(segReport.regionUncovered)
+          << ", \"total_patches\": " << so.totalPatches
+          << ", \"conversions\": " << segReport.conversions
           << ",\n    \"seconds\": {\"segmentation\": " << num(segReport.segmentSeconds)
           << ", \"graph\": " << num(st.fhSeconds) << ", \"grabcut\": " << num(st.grabCutSeconds)
           << ", \"grow\": " << num(st.growSeconds) << ", \"merge\": " << num(st.mergeSeconds)
@@ -369,6 +376,9 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         if (segment)
             s << ", \"label\": " << segReport.regionLabels[k]
               << ", \"fallback\": " << jsonString(segReport.fallbacks[k]);
+        if (segment && k < segReport.allotted.size())
+            s << ", \"largest_budget\": " << segReport.firstPassPatches[k]
+              << ", \"budget\": " << segReport.allotted[k];
         s
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices

@@ -272,6 +272,7 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     return take(fallback);
 }
 
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -300,6 +301,52 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
     return computeColors(m, image, all, co).mesh;
 }
 }  // namespace
+
+// (convert_segments.h)
+std::vector<RdPoint> lowerHull(std::vector<RdPoint> pts) {
+    std::sort(pts.begin(), pts.end(), [](const RdPoint& a, const RdPoint& b) {
+        return a.patches < b.patches || (a.patches == b.patches && a.sse < b.sse);
+    });
+    std::vector<RdPoint> hull;
+    for (const RdPoint& p : pts) {
+        if (!hull.empty() && (p.patches == hull.back().patches || p.sse >= hull.back().sse))
+            continue;
+        // Drop the last point while it lies on or above the chord from its predecessor to p.
+        while (hull.size() >= 2) {
+            const RdPoint& a = hull[hull.size() - 2];
+            const RdPoint& b = hull.back();
+            if ((b.sse - a.sse) * (p.patches - a.patches) < (p.sse - a.sse) * (b.patches - a.patches))
+                break;
+            hull.pop_back();
+        }
+        hull.push_back(p);
+    }
+    return hull;
+}
+
+// (convert_segments.h)
+std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& hulls, int total) {
+    const size_t n = hulls.size();
+    std::vector<size_t> at(n, 0);
+    double used = 0;
+    for (const auto& h : hulls) used += h.front().patches;
+    for (;;) {
+        size_t best = n;
+        double slope = 0;
+        for (size_t k = 0; k < n; ++k) {
+            if (at[k] + 1 >= hulls[k].size()) continue;
+            const RdPoint& a = hulls[k][at[k]];
+            const RdPoint& b = hulls[k][at[k] + 1];
+            if (used + b.patches - a.patches > total) continue;
+            const double s = (a.sse - b.sse) / (b.patches - a.patches);
+            if (best == n || s > slope) best = k, slope = s;
+        }
+        if (best == n) break;
+        used += hulls[best][at[best] + 1].patches - hulls[best][at[best]].patches;
+        ++at[best];
+    }
+    return at;
+}
 
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report) {
@@ -356,22 +403,83 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         for (size_t p = 0; p < m.size(); ++p) m[p] = drawnAt[p] > static_cast<int>(k);
         return m;
     };
-    std::atomic<size_t> next{0};
-    t0 = Clock::now();
-    auto work = [&]() {
-        for (size_t k; (k = next.fetch_add(1)) < n;) {
-            RegionOutcome out = convertSegmentRegion(image, regions[k], later(k), coAll, options, 0);
-            meshes[k] = std::move(out.meshes);
-            reports[k] = std::move(out.report);
-            fallbacks[k] = std::move(out.fallback);
-            ok[k] = static_cast<char>(out.how);
-        }
-    };
-    {
+    // Converts region job[w].first with patch budget job[w].second into outcomes[w], the jobs
+    // in parallel.
+    auto convertJobs = [&](const std::vector<std::pair<size_t, int>>& jobs,
+                           std::vector<RegionOutcome>& outcomes) {
+        outcomes.resize(jobs.size());
+        std::atomic<size_t> next{0};
+        auto work = [&]() {
+            for (size_t w; (w = next.fetch_add(1)) < jobs.size();) {
+                ConvertOptions co = coAll;
+                co.maxPatches = jobs[w].second;
+                const size_t k = jobs[w].first;
+                outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0);
+            }
+        };
         std::vector<std::thread> pool;
-        for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+        for (int w = 1; w < std::min<int>(workers, static_cast<int>(jobs.size())); ++w)
+            pool.emplace_back(work);
         work();
         for (auto& t : pool) t.join();
+    };
+    t0 = Clock::now();
+    std::vector<RegionOutcome> outcomes;
+    std::vector<std::pair<size_t, int>> jobs;
+    if (options.totalPatches > 0 && n > 0) {
+        // Every region at a ladder of budgets, halving from a generous one, to measure its
+        // error curve; then the budget goes where the error falls most per patch.
+        long pixels = 0;
+        for (const Region& r : regions) pixels += r.pixelCount;
+        for (size_t k = 0; k < n; ++k) {
+            const double share = options.firstPassShare * options.totalPatches *
+                                 double(regions[k].pixelCount) / double(std::max(1L, pixels));
+            const double floor = options.firstPassShare * options.totalPatches / double(n);
+            int b = static_cast<int>(std::clamp(std::ceil(std::max(share, floor)), 1.0,
+                                                double(coAll.maxPatches)));
+            for (int rung = 0; rung < options.budgetRungs && (rung == 0 || b >= 4); ++rung, b /= 2)
+                jobs.push_back({k, b});
+        }
+        // Largest budgets first: the slowest jobs start first.
+        std::stable_sort(jobs.begin(), jobs.end(),
+                         [](const auto& x, const auto& y) { return x.second > y.second; });
+        convertJobs(jobs, outcomes);
+        std::vector<std::vector<size_t>> tried(n);  // per region: its jobs
+        for (size_t w = 0; w < jobs.size(); ++w) tried[jobs[w].first].push_back(w);
+        std::vector<std::vector<RdPoint>> curves(n);
+        for (size_t k = 0; k < n; ++k) {
+            std::vector<RdPoint> pts;
+            for (size_t w : tried[k]) {
+                const RegionOutcome& o = outcomes[w];
+                if (o.how == 0) continue;
+                const double covered = double(o.report.error.pixels) * (1 - o.report.error.uncovered);
+                pts.push_back({double(o.report.patches),
+                               o.report.error.rmse * o.report.error.rmse * covered, w});
+            }
+            if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
+            curves[k] = lowerHull(std::move(pts));
+        }
+        const std::vector<size_t> pick = allotPatches(curves, options.totalPatches);
+        std::vector<RegionOutcome> chosen(n);
+        for (size_t k = 0; k < n; ++k) {
+            const size_t w = curves[k][pick[k]].job;
+            chosen[k] = std::move(outcomes[w]);
+            int most = 0;
+            for (size_t v : tried[k]) most = std::max(most, jobs[v].second);
+            rep.firstPassPatches.push_back(most);
+            rep.allotted.push_back(jobs[w].second);
+        }
+        rep.conversions = static_cast<int>(jobs.size());
+        outcomes = std::move(chosen);
+    } else {
+        for (size_t k = 0; k < n; ++k) jobs.push_back({k, coAll.maxPatches});
+        convertJobs(jobs, outcomes);
+    }
+    for (size_t k = 0; k < n; ++k) {
+        meshes[k] = std::move(outcomes[k].meshes);
+        reports[k] = std::move(outcomes[k].report);
+        fallbacks[k] = std::move(outcomes[k].fallback);
+        ok[k] = static_cast<char>(outcomes[k].how);
     }
     rep.convertSeconds = since(t0);
 

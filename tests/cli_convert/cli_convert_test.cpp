@@ -620,6 +620,8 @@ TEST_CASE("segment mode: bad option combinations are usage errors", "[cli_conver
     for (const Case& c : {Case{"--segment --mask " + q(d / "mask.png"), "--mask"},
                           Case{"--segments 5", "needs --segment"},
                           Case{"--min-region 100", "needs --segment"},
+                          Case{"--total-patches 100", "needs --segment"},
+                          Case{"--segment --total-patches 0", "--total-patches"},
                           Case{"--segment --segments 0", "--segments"},
                           Case{"--segment --threads 0", "--threads"}}) {
         INFO(c.args);
@@ -652,6 +654,28 @@ TEST_CASE("segment mode converts a whole image with every pixel painted", "[cli_
     const Run info = gradmesh("info " + q(d / "fish.gmb"), d);
     CHECK(info.code == 0);
     CHECK_THAT(info.out, Contains("mesh 1:"));
+}
+
+TEST_CASE("segment mode with a whole-image patch budget keeps to it", "[cli_convert][segment]") {
+    const fs::path d = tmpDir("segmenttotal");
+    const std::string in = std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg";
+    const Run r = gradmesh("convert " + q(in) + " --segment --total-patches 100 --max-error 2 -o " +
+                               q(d / "fish.gmb") + " --report " + q(d / "fish.json"),
+                           d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string rep = slurp(d / "fish.json");
+    CHECK_THAT(rep, Contains("\"total_patches\": 100,"));
+    CHECK_THAT(rep, Contains("\"uncovered\": 0,"));
+    CHECK_THAT(rep, Contains("\"budget\": "));
+    // Regions' patches (the base mesh's are the rest of the total) within the budget.
+    const auto at = rep.find("\"patches\": ");
+    REQUIRE(at != std::string::npos);
+    const int patches = std::stoi(rep.substr(at + 11));
+    const auto base = rep.find("\"base_patches\": ");
+    REQUIRE(base != std::string::npos);
+    CHECK(patches - std::stoi(rep.substr(base + 16)) <= 100);
+    CHECK(patches >= 50);
 }
 
 TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[cli_convert][samples]") {

@@ -252,3 +252,82 @@ TEST_CASE("a region with a lobe behind a narrow neck is cut there when that lowe
     writeImage(renderDocument(doc, RenderOptions{}).image,
                std::string(GRADMESH_TMP) + "/segment_neck.png");
 }
+
+TEST_CASE("a region's meshes worth their patches form the lower convex hull of its error curve",
+          "[convert][segment][budget]") {
+    // (patches, squared error, job): 30 lies above the chord from 10 to 60; 80 does not lower
+    // the error; the two meshes of 10 patches keep the better one.
+    const std::vector<RdPoint> hull = lowerHull({{60, 200, 0},
+                                                 {10, 1000, 1},
+                                                 {30, 700, 2},
+                                                 {10, 900, 3},
+                                                 {80, 200, 4},
+                                                 {120, 150, 5}});
+    REQUIRE(hull.size() == 3);
+    CHECK(hull[0].job == 3);
+    CHECK(hull[1].job == 0);
+    CHECK(hull[2].job == 5);
+    REQUIRE(lowerHull({{5, 10, 7}}).size() == 1);
+}
+
+TEST_CASE("a whole-image budget goes where the error falls most per patch",
+          "[convert][segment][budget]") {
+    // Region 0 falls by 100 per patch up to 20 patches, then by 1; region 1 by 10 per patch.
+    const std::vector<std::vector<RdPoint>> hulls = {
+        {{10, 5000, 0}, {20, 4000, 1}, {120, 3900, 2}},
+        {{10, 5000, 3}, {40, 4700, 4}, {60, 4600, 5}}};
+    // 20 + 10 patches: only the start.
+    CHECK(allotPatches(hulls, 20) == std::vector<size_t>{0, 0});
+    // 30: region 0's steep step; 60: then region 1's first step (30 patches at 10 each);
+    // 75: region 1's second step (20 patches at 5 each) does not fit, nor region 0's next.
+    CHECK(allotPatches(hulls, 30) == std::vector<size_t>{1, 0});
+    CHECK(allotPatches(hulls, 75) == std::vector<size_t>{1, 1});
+    CHECK(allotPatches(hulls, 80) == std::vector<size_t>{1, 2});
+    CHECK(allotPatches(hulls, 1000) == std::vector<size_t>{2, 2});
+    // The first points alone over the total: they are kept (nothing smaller was measured).
+    CHECK(allotPatches(hulls, 5) == std::vector<size_t>{0, 0});
+}
+
+TEST_CASE("with a whole-image patch budget the busy region gets the patches and the total holds",
+          "[convert][segment][budget]") {
+    // The scene with a finely striped box: its error falls with every patch, the smooth
+    // regions' hardly at all.
+    RgbaImage image = scene();
+    for (int y = 41; y < 170; ++y)
+        for (int x = 166; x < 225; ++x) {
+            float* p = image.at(x, y);
+            p[1] = 0.45f + 0.25f * float(std::sin(x / 5.0) * std::sin(y / 6.0));
+        }
+    SegmentConvertOptions o;
+    o.convert.maxError = 0.5;
+    o.totalPatches = 160;
+    SegmentConvertReport rep;
+    const Document doc = convertSegmented(image, o, "striped scene", &rep);
+    REQUIRE(rep.failedRegions == 0);
+    REQUIRE(rep.allotted.size() == rep.convert.regions.size());
+    CHECK(rep.conversions > static_cast<int>(rep.convert.regions.size()));
+    int regionPatches = 0, smallest = 0;
+    double busiest = 0, calmest = 1e9;  // patches per 1000 pixels
+    size_t striped = 0;
+    for (size_t k = 0; k < rep.convert.regions.size(); ++k) {
+        const RegionReport& r = rep.convert.regions[k];
+        regionPatches += r.patches;
+        smallest += std::min(r.patches, 4);
+        const double density = 1000.0 * r.patches / r.pixels;
+        INFO("region " << k << ": " << r.pixels << " px, " << r.patches << " patches, E "
+                       << r.error.meanAbs << ", budget " << rep.allotted[k]);
+        if (density > busiest) busiest = density, striped = k;
+        calmest = std::min(calmest, density);
+    }
+    WARN("striped scene, 160 patches for the whole image: regions got "
+         << regionPatches << ", E " << rep.convert.error.meanAbs << ", " << rep.conversions
+         << " conversions");
+    CHECK(regionPatches <= o.totalPatches);
+    CHECK(rep.convert.error.uncovered == 0);
+    // The striped box (the region whose pixels lie in it) has the most patches per pixel, by far.
+    const RegionReport& box = rep.convert.regions[striped];
+    CHECK(box.pixels > 5000);
+    CHECK(box.pixels < 9000);
+    CHECK(busiest > 4 * calmest);
+    CHECK(doc.meshes.size() >= rep.convert.regions.size() + 1);
+}

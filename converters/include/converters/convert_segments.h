@@ -54,6 +54,17 @@ struct SegmentConvertOptions {
     // half of the patches of a file at 4 patches a region).
     double basePatchSize = 64;
     double coarseBasePatchSize = 256;
+    // When > 0 (--total-patches): one patch budget for the whole image, shared out where it
+    // lowers the squared error most. Every region is converted at a ladder of budgetRungs
+    // budgets, halving from a generous one (firstPassShare times its share of totalPatches by
+    // pixels, at least firstPassShare times the mean share) down to 4 patches; each region's
+    // meshes that are worth their patches (the lower convex hull of patches against squared
+    // error) are its choices; every region starts with its smallest, then the step with the
+    // steepest error drop per patch that fits in what is left is taken, until none fits. The
+    // meshes chosen are kept (no further conversion). --max-error still stops each region.
+    int totalPatches = 0;
+    double firstPassShare = 4;
+    int budgetRungs = 5;
 };
 
 struct SegmentConvertReport {
@@ -72,7 +83,28 @@ struct SegmentConvertReport {
     FitError interior;           // ... and over the others
     double segmentSeconds = 0, regionsSeconds = 0, convertSeconds = 0, measureSeconds = 0;
     double totalSeconds = 0;     // wall, segmentation to measurement
+    // --total-patches: per convert.regions entry, the largest budget tried and the budget of
+    // the mesh kept; and how many conversions were made in all.
+    std::vector<int> firstPassPatches, allotted;
+    int conversions = 0;
 };
+
+// --total-patches, the budget shared out: one converted mesh of a region, its patches, its
+// squared error summed over its pixels, and which conversion made it.
+struct RdPoint {
+    double patches = 0, sse = 0;
+    size_t job = 0;
+};
+
+// The lower convex hull of a region's measured meshes, fewest patches first, the error
+// strictly falling: the meshes worth their patches.
+std::vector<RdPoint> lowerHull(std::vector<RdPoint> points);
+
+// Picks one point on each region's hull (an index into it) so that the patches total at most
+// `total` (unless the first points alone exceed it): every region starts at its first point,
+// then the hull step with the steepest error drop per patch that still fits is taken, until
+// none fits. Each hull must be non-empty.
+std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& hulls, int total);
 
 // Throws gm::Error naming `imageName` when the image is empty or the segmentation fails. A
 // region whose mesh misses the error target (see neckSplits) or whose map fails is first cut at
