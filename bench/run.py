@@ -117,7 +117,7 @@ def main():
     ap.add_argument("--whole", action="store_true", help="only the whole-image section")
     ap.add_argument("--no-whole", action="store_true", help="skip the whole-image section")
     ap.add_argument("--whole-points", default="",
-                    help="the section's points: E (--max-error) or E/P (and --max-patches P), "
+                    help="the section's points: E (--max-error), E/P (and --max-patches P) or E/tN (and --total-patches N), "
                          "comma separated, e.g. 2,8,2/25")
     a = ap.parse_args()
 

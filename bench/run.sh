@@ -11,7 +11,8 @@
 # it), BENCH_NO_COLORS=1 (skip the fit vs sampled table), BENCH_TIMEOUT (s per conversion).
 # After Table 1, the whole-image rate-distortion section against JPEG (bench/whole.py):
 # BENCH_NO_WHOLE=1 skips it, BENCH_ONLY_WHOLE=1 runs only it, BENCH_WHOLE_POINTS=2,8,2/25 sets
-# its points (E = --max-error E; E/P = --max-error E --max-patches P).
+# its points (E = --max-error E; E/P = --max-error E --max-patches P; E/tN = --max-error E
+# --total-patches N).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD

@@ -20,11 +20,13 @@ import zipfile
 import zlib
 
 IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png"]
-# Points "E" (--max-error E, default budget) or "E/P" (also --max-patches P, per region). With the
-# default budget (8000 patches per region, at most one per 8 region pixels) --max-error is what
-# stops most regions, so E sets the size; the fixed small budgets give the low-rate end of the
-# curve. "3" is convert's default.
-POINTS = ["2/4", "2/10", "2/25", "2/50", "2/100", "2/400", "8", "5", "4", "3"]  # about rising size
+# Points "E" (--max-error E, default budget), "E/P" (also --max-patches P, per region) or "E/tN"
+# (also --total-patches N: one budget for the whole image, shared out by the regions' measured
+# error curves). With the default budget (8000 patches per region, at most one per 8 region
+# pixels) --max-error is what stops most regions, so E sets the size; the fixed small budgets
+# give the low-rate end of the curve. "3" is convert's default.
+POINTS = ["2/4", "2/10", "2/t60", "2/t120", "2/25", "2/t250", "2/50", "2/100", "2/400",
+          "8", "5", "4", "3"]  # about rising size
 
 # Compact .gmb levels of the rate-distortion rows (gmb.h, GmbCompactShifts), each point converted
 # at each: 2 is ~40 % smaller than level 0 for ~0.2 dB at E 3; 4 and 5 trade more PSNR for size,
@@ -56,13 +58,19 @@ def white_png(path, w, h):
 
 
 def zipped_size(path):
-    """Bytes of a .zip archive (deflate, level 9) holding the file, headers included."""
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED, compresslevel=9) as z:
-        z.write(path, os.path.basename(path))
+    """Bytes of a .zip archive holding the file, headers included: deflated (level 9), or stored
+    when deflate would not make it smaller, as Info-ZIP's zip does (a range-coded .gmb does not
+    deflate: deflate's own framing then adds ~3 %)."""
+    best = None
+    for method in (zipfile.ZIP_DEFLATED, zipfile.ZIP_STORED):
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w", method, compresslevel=9 if method else None) as z:
+            z.write(path, os.path.basename(path))
+        if best is None or len(buf.getvalue()) < len(best):
+            best = buf.getvalue()
     with open(path + ".zip", "wb") as f:
-        f.write(buf.getvalue())
-    return len(buf.getvalue())
+        f.write(best)
+    return len(best)
 
 
 def jpeg_curve(jm, image):
@@ -153,9 +161,11 @@ def plot_svg(path, series):
 
 
 def parse_point(text):
-    """"E" or "E/P" -> (E, P or None)."""
+    """"E", "E/P" or "E/tN" -> (E, P or None, N or None)."""
     e, _, p = text.strip().partition("/")
-    return float(e), (int(p) if p else None)
+    if p.startswith("t"):
+        return float(e), None, int(p[1:])
+    return float(e), (int(p) if p else None), None
 
 
 def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, points=None):
@@ -189,17 +199,19 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
             white_png(mask, jc["width"], jc["height"])
             extra = ["--mask", mask]
         mesh_pts = []
-        for (e, budget), level in [(p, lv) for p in points for lv in COMPACT_LEVELS]:
-            base = os.path.join(out, "%s_E%g%s_L%d" % (stem, e, "_P%d" % budget if budget else "",
-                                                       level))
+        for (e, budget, total), level in [(p, lv) for p in points for lv in COMPACT_LEVELS]:
+            base = os.path.join(out, "%s_E%g%s%s_L%d" % (stem, e, "_P%d" % budget if budget else "",
+                                                         "_T%d" % total if total else "", level))
             gmb, rep = base + ".gmb", base + ".json"
             args = ["--compact-level", str(level), "--max-error", "%g" % e]
             if budget:
                 args += ["--max-patches", str(budget)]
+            elif total and segment:
+                args += ["--total-patches", str(total)]
             elif not segment:
                 args += STANDIN_ARGS
             ok, r, wall, _ = run_convert(gm, image, None, gmb, rep, extra + args, timeout)
-            bcell = str(budget) if budget else "default"
+            bcell = str(budget) if budget else "%d in all" % total if total else "default"
             if not ok:
                 log("   E %g, budget %s, level %d failed: %s" % (e, bcell, level, r))
                 body.append([name, "%g" % e, bcell, str(level)] + ["—"] * 9 +
@@ -246,8 +258,11 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
                 "JPEG %s, %.1f s" % (e, bcell, level, regions, r["patches"], psnr, zipped, jcell,
                                      r["io_seconds"]["end_to_end"]))
             mesh_pts.append((zipped, psnr))
-            bcell = str(r.get("max_patches", budget)) + (
-                "" if budget else " (default)" if segment else " (stand-in)")
+            if total and segment:
+                bcell = "%d in all (%d conversions)" % (total, seg.get("conversions", 0))
+            else:
+                bcell = str(r.get("max_patches", budget)) + (
+                    "" if budget else " (default)" if segment else " (stand-in)")
             body.append([name, "%g" % e, bcell, str(level), str(regions), str(r["patches"]),
                          fmt(err["E"]),
                          fmt(psnr), str(compact), str(zipped), jcell, ratio, rcell,
@@ -262,8 +277,8 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
     print()
     if segment:
         print("Each row: `gradmesh convert IMAGE %s --compact-level L --max-error E "
-              "[--max-patches P] --report R.json` (E target, patch budget P per region, compact "
-              "level L); E and PSNR are the compact file's own (decoded and re-rendered)." %
+              "[--max-patches P | --total-patches N] --report R.json` (E target, patch budget P "
+              "per region or N for the whole image, compact level L); E and PSNR are the compact file's own (decoded and re-rendered)." %
               " ".join(SEGMENT_ARGS))
     else:
         print("**STAND-IN, not `--segment`** (this gradmesh has no `--segment`): each row is "
