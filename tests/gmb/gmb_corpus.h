@@ -1,5 +1,5 @@
-// The deterministic documents behind tests/data/gmb: golden files of versions 1.0, 1.1 and 1.2
-// and the malformed corpus, each with the message its reading must produce. Only IEEE-exact
+// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 to 1.3 and
+// the malformed corpus, each with the message its reading must produce. Only IEEE-exact
 // arithmetic (no libm calls but exact ones: frexp, ldexp, llround), so that the same bytes come
 // out on every platform.
 //
@@ -7,7 +7,10 @@
 //   build-gmb/tests/gmb/test_gmb "[.generate]"
 // The golden files of earlier versions are not regenerated (today's writer writes the newest
 // version); the malformed cases built from a compressed 1.0 section read golden-1.0-compact.gmb,
-// those built from a 1.1 NODE of encoding 2 read golden-1.1-compact.gmb.
+// those built from a 1.1 NODE of encoding 2 read golden-1.1-compact.gmb, those built from CMSH
+// sections read golden-1.2-compact.gmb and golden-1.2-compact-mixed.gmb. The 1.3 files
+// (golden-1.3-compact.gmb: goldenCompact11; golden-1.3-compact-mixed.gmb: goldenMixed12) are
+// today's writer's output at level 0.
 #pragma once
 
 #include <cmath>
@@ -212,6 +215,34 @@ inline std::vector<SpecCmshMesh> cmshRecords(const std::string& file) {
             out.push_back(std::move(m));
     }
     return out;
+}
+
+// Every mesh of every CMSH or CMS2 section of a file, in order (spec decoding).
+inline std::vector<SpecCmshMesh> compactRecords(const std::string& file) {
+    std::vector<SpecCmshMesh> out;
+    for (const SectionInfo& i : listSections(file)) {
+        const std::string payload = file.substr(i.payload(), static_cast<size_t>(i.stored));
+        std::vector<SpecCmshMesh> meshes;
+        if (i.tag == "CMSH") meshes = specDecodeCmsh(payload);
+        if (i.tag == "CMS2") meshes = specDecodeCms2(payload);
+        for (SpecCmshMesh& m : meshes) out.push_back(std::move(m));
+    }
+    return out;
+}
+
+// The same file in the 1.2 layout: each CMS2 section as a CMSH section with the same weights,
+// residuals, knots, slits and breaks (spec encoding). It holds the same document, so its size
+// is what CMSH costs for the very same data.
+inline std::string cms2AsCmsh(const std::string& file) {
+    std::string s = fileHeader(1, 2);
+    for (const SectionInfo& i : listSections(file)) {
+        if (i.tag != "CMS2") {
+            s += file.substr(i.offset, i.end() - i.offset);
+            continue;
+        }
+        s += section("CMSH", specCms2AsCmsh(file.substr(i.payload(), static_cast<size_t>(i.stored))));
+    }
+    return s;
 }
 
 // The same file in the 1.1 layout: each CMSH mesh record as MESH, KNOT, NODE (every plane's
@@ -438,12 +469,17 @@ inline std::vector<Malformed> malformedCorpus() {
     // CMSH sections (version 1.2). The golden document is one CMSH of two meshes: mesh 0 is 5x4
     // with a slit and two tangent breaks, mesh 1 is 2x1 (in `rule`, with colour derivatives
     // omitted: 9 planes); the payload is rebuilt around the parts the spec decoder locates.
-    const std::string cmsh = gm::encodeGmb(goldenCompact11(), true);
-    const std::string rule = gm::encodeGmb(goldenCompact11Rule(), true);
+    // The writer no longer writes CMSH: `cmsh` is the 1.2 golden file (the 1.2 writer's
+    // goldenCompact11), `rule` the same file with the first CMSH payload of the 1.2 mixed golden
+    // file (goldenCompact11Rule's two meshes), as the 1.2 writer wrote goldenCompact11Rule.
     auto cmshPayload = [](const std::string& file) {
         const SectionInfo i = findSection(file, "CMSH");
         return file.substr(i.payload(), static_cast<size_t>(i.stored));
     };
+    const std::string cmsh = readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.2-compact.gmb");
+    const std::string rule = withPayload(
+        cmsh, "CMSH", 0,
+        cmshPayload(readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.2-compact-mixed.gmb")));
     const std::string payload = cmshPayload(cmsh), rulePayload = cmshPayload(rule);
     const std::vector<SpecCmshMesh> records = specDecodeCmsh(payload),
                                     ruleRecords = specDecodeCmsh(rulePayload);
@@ -472,7 +508,7 @@ inline std::vector<Malformed> malformedCorpus() {
                    "CMSH holds 3 meshes, but the document has only 2 more"});
     out.push_back({"cmsh-fewer-meshes-than-declared.gmb",
                    withCmsh(cmsh, varint(1) + payload.substr(1, records[1].start - 1)),
-                   "section END  out of place: expected MESH or CMSH"});
+                   "section END  out of place: expected MESH, CMSH or CMS2"});
     // 25 meshes declared (DOCU too): 16 bytes each at least, more than the payload holds.
     out.push_back({"cmsh-records-beyond-payload.gmb",
                    withCmsh(edit(cmsh, "DOCU", 0, 32, 25, 4), varint(25) + payload.substr(1)),
@@ -532,7 +568,140 @@ inline std::vector<Malformed> malformedCorpus() {
                                           payload.substr(records[1].streamAt)),
                        "plane weight 40256 out of range in section CMSH (mesh 1)"});
     }
+
+    // CMS2 sections (version 1.3): the writer's goldenCompact11, one CMS2 of both meshes.
+    const std::string cms2 = gm::encodeGmb(goldenCompact11(), true);
+    const SectionInfo cms2Info = findSection(cms2, "CMS2");
+    const std::string cms2Payload = cms2.substr(cms2Info.payload(), static_cast<size_t>(cms2Info.stored));
+    const size_t streamAt = 7;  // M and the six exponents: one byte each here
+    auto withCms2 = [&](const std::string& p) { return withPayload(cms2, "CMS2", 0, p); };
+    {
+        std::string s = cms2;
+        setLE(s, 10, 2, 2);
+        out.push_back({"cms2-in-version-1.2.gmb", s, "section CMS2 needs format version 1.3 (the file says 1.2)"});
+    }
+    out.push_back({"cms2-compressed.gmb", edit(cms2, "CMS2", 0, 5, 2, 1),
+                   "section CMS2 must be stored (codec 0), not codec 2"});
+    out.push_back({"cms2-no-mesh.gmb", withCms2(varint(0) + cms2Payload.substr(1)),
+                   "a CMS2 section holds no mesh"});
+    out.push_back({"cms2-more-meshes-than-declared.gmb", withCms2(varint(3) + cms2Payload.substr(1)),
+                   "CMS2 holds 3 meshes, but the document has only 2 more"});
+    // M says 1: the stream's bytes for mesh 1 are left over after it.
+    out.push_back({"cms2-fewer-meshes-than-declared.gmb", withCms2(varint(1) + cms2Payload.substr(1)),
+                   "unexpected bytes at the end of the CMS2 payload"});
+    out.push_back({"cms2-trailing-bytes.gmb", withCms2(cms2Payload + std::string(3, '\0')),
+                   "3 unexpected bytes at the end of the CMS2 payload"});
+    out.push_back({"cms2-truncated-stream.gmb", withCms2(cms2Payload.substr(0, cms2Payload.size() - 2)),
+                   "truncated"});
+    out.push_back({"cms2-stream-only-start.gmb", withCms2(cms2Payload.substr(0, streamAt + 3)),
+                   "truncated: 5 bytes needed for the start of the range-coded data"});
+    {
+        std::string p = cms2Payload;
+        p[streamAt] = 1;
+        out.push_back({"cms2-stream-first-byte.gmb", withCms2(p), "corrupt range-coded data"});
+    }
+    {
+        std::string p = cms2Payload;
+        p[2] = 80;  // e_posU (zigzag 80: 40), against e_pos -5 and e_knot
+        out.push_back({"cms2-exponent-out-of-range.gmb", withCms2(p),
+                       "derivative quantisation exponent 40 out of range (knot exponent -23, value exponent -5) "
+                       "in section CMS2 (mesh 0)"});
+    }
+    // Streams crafted integer by integer (SpecCms2Writer), after M = 1 and the exponents.
+    const std::string oneMesh = varint(1) + cms2Payload.substr(1, streamAt - 1);
+    auto crafted = [&](auto write) {
+        SpecCms2Writer w;
+        write(w);
+        return withCms2(oneMesh + w.finish());
+    };
+    using W = SpecCms2Writer;
+    // A 2x1 mesh of 9 planes (colour by the rule) from `flags` on, all residuals 0.
+    auto smallMesh = [](W& w, uint64_t flags, int64_t weightDelta) {
+        w.U(W::Flags, flags);
+        w.S(W::KnotExponent, -22);
+        for (int count : {2, 1}) {
+            w.S(W::KnotStart, 0);
+            for (int k = 0; k < count; ++k) w.U(W::KnotStep, (1 << 22) - 1);
+        }
+        for (int o = 0; o < 9; ++o) {
+            w.weighted(o, o == 0 && weightDelta != 0);
+            if (o == 0 && weightDelta != 0)
+                for (int64_t d : {weightDelta, int64_t(0), int64_t(0)}) w.S(W::WeightDelta, d);
+        }
+        for (int c : {0, 1, 7, 6, 8, 2, 3, 4, 5})
+            for (int k = 0; k < 6; ++k) w.residual(c, 0, 0);
+    };
+    out.push_back({"cms2-grid-beyond-limit.gmb", crafted([](W& w) {
+                       w.U(W::Size, 100000);
+                       w.U(W::Size, 1);
+                       w.U(W::Count, 0);
+                       w.U(W::Count, 0);
+                   }),
+                   "grid 100000x1 exceeds the limit of 65536 columns or rows in section CMS2 (mesh 0)"});
+    out.push_back({"cms2-unknown-flags.gmb", crafted([&](W& w) {
+                       w.U(W::Size, 2);
+                       w.U(W::Size, 1);
+                       w.U(W::Count, 0);
+                       w.U(W::Count, 0);
+                       smallMesh(w, 2, 0);
+                   }),
+                   "unknown mesh flags 2 in section CMS2 (mesh 0)"});
+    out.push_back({"cms2-weight-out-of-range.gmb", crafted([&](W& w) {
+                       w.U(W::Size, 2);
+                       w.U(W::Size, 1);
+                       w.U(W::Count, 0);
+                       w.U(W::Count, 0);
+                       smallMesh(w, 1, 40000);
+                   }),
+                   "plane weight 40256 out of range in section CMS2 (mesh 0)"});
+    // Without its flaw the crafted mesh reads (craftedSoundCms2, checked by the malformed
+    // tests), so each case above fails for its own reason.
+    out.push_back({"cms2-tangent-outside-grid.gmb", crafted([&](W& w) {
+                       w.U(W::Size, 2);
+                       w.U(W::Size, 1);
+                       w.U(W::Count, 0);
+                       w.U(W::Count, 1);
+                       smallMesh(w, 1, 0);
+                       for (uint64_t x : {2, 0, 0}) w.U(W::TangentIndex, x);
+                       w.S(W::TangentValue, 1);
+                       w.S(W::TangentValue, 1);
+                   }),
+                   "tangent break 0 names a corner outside the grid in section CMS2 (mesh 0)"});
     return out;
+}
+
+// The crafted CMS2 mesh of the malformed cases with nothing wrong: a 2x1 mesh, colours by the
+// rule, a tangent break at patch (1, 0). It must read.
+inline std::string craftedSoundCms2() {
+    const std::string cms2 = gm::encodeGmb(goldenCompact11(), true);
+    const SectionInfo info = findSection(cms2, "CMS2");
+    const std::string payload = cms2.substr(info.payload(), static_cast<size_t>(info.stored));
+    using W = SpecCms2Writer;
+    W w;
+    w.U(W::Size, 2);
+    w.U(W::Size, 1);
+    w.U(W::Count, 0);
+    w.U(W::Count, 1);
+    w.U(W::Flags, 1);
+    w.S(W::KnotExponent, -22);
+    for (int count : {2, 1}) {
+        w.S(W::KnotStart, 0);
+        for (int k = 0; k < count; ++k) w.U(W::KnotStep, (1 << 22) - 1);
+    }
+    for (int o = 0; o < 9; ++o) w.weighted(o, 0);
+    for (int c : {0, 1, 7, 6, 8, 2, 3, 4, 5})
+        for (int k = 0; k < 6; ++k) w.residual(c, 0, 0);
+    for (uint64_t x : {1, 0, 0}) w.U(W::TangentIndex, x);
+    w.S(W::TangentValue, 1);
+    w.S(W::TangentValue, 1);
+    std::string p = payload.substr(0, 7);
+    p[0] = 1;
+    // DOCU: one mesh.
+    std::string s = withPayload(cms2, "CMS2", 0, p + w.finish());
+    const SectionInfo docu = findSection(s, "DOCU");
+    setLE(s, docu.payload() + 8, 1, 4);
+    fixCrc(s, docu.offset);
+    return s;
 }
 
 }  // namespace gmbtest

@@ -9,6 +9,7 @@
 #include "formats/gmb.h"
 #include "gmb_corpus.h"
 #include "meshcore/error.h"
+#include "meshcore/validate.h"
 
 using Catch::Matchers::Contains;
 
@@ -75,6 +76,7 @@ TEST_CASE("inputs that once crashed the reader are refused or read cleanly", "[m
 TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]") {
     for (bool compact : {false, true}) {
         const std::string full = gm::encodeGmb(gmbtest::goldenCompact(), compact);
+        if (compact) CHECK(gmbtest::listSections(full)[1].tag == "CMS2");
         INFO((compact ? "compact, " : "lossless, ") << full.size() << " bytes");
         for (size_t n = 0; n < full.size(); ++n) {
             INFO("cut at " << n);
@@ -82,6 +84,67 @@ TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]
             CHECK_THAT(message, Contains(n == 0 ? "empty file" : "truncated"));
         }
     }
+}
+
+TEST_CASE("a CMS2 file truncated at every byte is refused", "[malformed]") {
+    // Two CMS2 runs around a float64 mesh; cut anywhere, and also with the cut section's sizes
+    // and CRC made to fit (so that the stream itself ends early).
+    const std::string full = gm::encodeGmb(gmbtest::goldenMixed12(), true);
+    for (size_t n = 0; n < full.size(); ++n) {
+        INFO("cut at " << n);
+        CHECK_THAT(decodeError(full.substr(0, n)), Contains(n == 0 ? "empty file" : "truncated"));
+    }
+    for (int nth : {0, 1}) {
+        const gmbtest::SectionInfo cms2 = gmbtest::findSection(full, "CMS2", nth);
+        const std::string payload = full.substr(cms2.payload(), static_cast<size_t>(cms2.stored));
+        for (size_t n = 0; n < payload.size(); ++n) {
+            INFO("CMS2 " << nth << " payload cut at " << n);
+            CHECK_THAT(decodeError(gmbtest::withPayload(full, "CMS2", nth, payload.substr(0, n))),
+                       Contains("CMS2") && Contains("truncated"));
+        }
+    }
+}
+
+TEST_CASE("every single-bit flip of a CMS2 section is refused or reads to a valid document",
+          "[malformed]") {
+    const std::string good = gm::encodeGmb(gmbtest::goldenMixed12(), true);
+    int refused = 0, read = 0;
+    for (int nth : {0, 1}) {
+        const gmbtest::SectionInfo cms2 = gmbtest::findSection(good, "CMS2", nth);
+        for (size_t at = cms2.offset; at < cms2.end(); ++at)
+            for (int bit = 0; bit < 8; ++bit) {
+                INFO("byte " << at << " bit " << bit);
+                std::string s = good;
+                s[at] = static_cast<char>(s[at] ^ (1 << bit));
+                // As damaged (the CRC catches it), and behind a recomputed CRC when the framing
+                // still holds.
+                CHECK_THAT(decodeError(s), Contains("bad.gmb"));
+                if (at >= cms2.payload() && at < cms2.end() - 4) {
+                    gmbtest::fixCrc(s, cms2.offset);
+                    try {
+                        const gm::Document d = gm::decodeGmb(s, gm::ReadLimits{}, "flipped.gmb");
+                        CHECK(gm::validateDocument(d).empty());
+                        CHECK(gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{}) == d);
+                        ++read;
+                    } catch (const gm::Error& e) {
+                        CHECK(e.file() == "flipped.gmb");
+                        CHECK_THAT(e.what(), Contains("CMS2") || Contains("mesh "));
+                        CHECK_FALSE(e.where().empty());
+                        ++refused;
+                    }
+                }
+            }
+    }
+    WARN("single-bit flips of CMS2 payloads: " << refused << " refused, " << read << " read");
+    CHECK(refused > 0);
+}
+
+TEST_CASE("a crafted CMS2 stream without a flaw reads", "[malformed]") {
+    // The malformed cms2-* cases built with SpecCms2Writer differ from this file by their flaw.
+    const gm::Document d = gm::decodeGmb(gmbtest::craftedSoundCms2(), gm::ReadLimits{}, "crafted.gmb");
+    REQUIRE(d.meshes.size() == 1);
+    CHECK(d.meshes[0].columns() == 2);
+    CHECK(d.meshes[0].tangents.size() == 1);
 }
 
 namespace {
@@ -126,12 +189,17 @@ TEST_CASE("damaged range-coded nodes give an error or a valid document", "[malfo
     // The mesh records of a CMSH section (version 1.2), from mesh 0's plane weights on: a
     // damaged stream of mesh 0 also moves where its slit and mesh 1 begin, so the error may
     // come from a check of the decoded mesh ("mesh 0: ...").
-    const std::string v12 = gm::encodeGmb(gmbtest::goldenCompact11(), true);
+    const std::string v12 = gmbtest::readFile(kDir + "golden-1.2-compact.gmb");
     const gmbtest::SectionInfo cmsh = gmbtest::findSection(v12, "CMSH");
     const auto records =
         gmbtest::specDecodeCmsh(v12.substr(cmsh.payload(), static_cast<size_t>(cmsh.stored)));
     CHECK(damageRandomly(v12, cmsh.offset, cmsh.payload() + records[0].weightsAt, cmsh.end() - 4,
                          {"CMSH", "mesh 0: ", "mesh 1: "}) > 0);
+    // A CMS2 section (version 1.3), from its stream's first byte on.
+    const std::string v13 = gm::encodeGmb(gmbtest::goldenCompact11(), true);
+    const gmbtest::SectionInfo cms2 = gmbtest::findSection(v13, "CMS2");
+    CHECK(damageRandomly(v13, cms2.offset, cms2.payload() + 7, cms2.end() - 4,
+                         {"CMS2", "mesh 0: ", "mesh 1: "}) > 0);
 }
 
 TEST_CASE("counts that would need terabytes are refused before allocating", "[malformed]") {
@@ -178,7 +246,7 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
         big.meshes[0].nodes[k].pos = {double(k % 301) / 3, double(k / 301) / 3};
     const std::string bomb = gm::encodeGmb(big, true);
     CHECK(bomb.size() < 20000);
-    REQUIRE(gmbtest::findSection(bomb, "CMSH").stored > 0);
+    REQUIRE(gmbtest::findSection(bomb, "CMS2").stored > 0);
     CHECK_THAT(decodeError(bomb, budget), Contains("decoded data would exceed the limit of 100000 bytes"));
     // A CMSH record of 4000x4000 patches (9 planes: 144 M values) with its 8002 knots but a
     // 5-byte stream: such a stream cannot hold that many values (each costs a fraction of a
@@ -197,6 +265,48 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
     roomy.maxFileBytes = uint64_t(4) << 30;
     CHECK_THAT(decodeError(huge4000, roomy), Contains("truncated: 8793 bytes needed for the range-coded nodes") &&
                                                  Contains("CMSH (mesh 0)"));
+    // The same in a CMS2 stream: a 4000x4000 mesh (colours by the rule) and its knots, then the
+    // stream ends. Under the default limits its values are over budget; with a budget raised
+    // past that, the bytes that remain refuse the planes before they are allocated.
+    {
+        using W = gmbtest::SpecCms2Writer;
+        W w;
+        w.U(W::Size, 4000);
+        w.U(W::Size, 4000);
+        w.U(W::Count, 0);
+        w.U(W::Count, 0);
+        w.U(W::Flags, 1);
+        w.S(W::KnotExponent, -22);
+        for (int k = 0; k < 2; ++k) {
+            w.S(W::KnotStart, 0);
+            for (int i = 0; i < 4000; ++i) w.U(W::KnotStep, 0);
+        }
+        std::string payload("\x01\x09\x05\x05\x0f\x0d\x0d", 7);  // M, shared exponents
+        payload += w.finish();
+        const std::string file =
+            gmbtest::fileHeader(1, 3) +
+            gmbtest::section("DOCU", std::string("\x64\0\0\0\x64\0\0\0\x01\0\0\0", 12)) +
+            gmbtest::section("CMS2", payload) + gmbtest::section("END ", "");
+        CHECK_THAT(decodeError(file), Contains("decoded data would exceed the limit of 1073741824 bytes") &&
+                                          Contains("CMS2 (mesh 0)"));
+        gm::ReadLimits roomy;
+        roomy.maxFileBytes = uint64_t(4) << 30;
+        CHECK_THAT(decodeError(file, roomy), Contains("bytes needed for the range-coded nodes") &&
+                                                 Contains("CMS2 (mesh 0)"));
+        // Huge counts in the stream itself: refused by the limits before anything is sized.
+        W big;
+        big.U(W::Size, uint64_t(1) << 62);
+        big.U(W::Size, uint64_t(1) << 62);
+        big.U(W::Count, 0);
+        big.U(W::Count, 0);
+        std::string p2("\x01\x09\x05\x05\x0f\x0d\x0d", 7);
+        p2 += big.finish();
+        const std::string bigFile =
+            gmbtest::fileHeader(1, 3) +
+            gmbtest::section("DOCU", std::string("\x64\0\0\0\x64\0\0\0\x01\0\0\0", 12)) +
+            gmbtest::section("CMS2", p2) + gmbtest::section("END ", "");
+        CHECK_THAT(decodeError(bigFile, huge), Contains("exceeds the limit") && Contains("CMS2 (mesh 0)"));
+    }
     CHECK_THAT(decodeError(edit("DOCU", 32, 0xffffffffu, 4), huge), Contains("meshes but only"));
 }
 

@@ -10,6 +10,7 @@
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/split_legacy.h"
+#include "meshcore/validate.h"
 #include "meshcore/synthetic_meshes.h"
 
 using gm::Document;
@@ -235,9 +236,9 @@ TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") 
     GradientMesh smooth = gm::makeCurvedMesh(6, 5, 16, 16, 200, 160, 1.0, 8);
     both.meshes.insert(both.meshes.begin(), smooth);
     const std::string mixed = gm::encodeGmb(both, true);
-    CHECK(gmbtest::getLE(mixed, 10, 2) == 2);  // a CMSH section: version 1.2
-    CHECK(gmbtest::listSections(mixed)[1].tag == "CMSH");
-    CHECK(gmbtest::cmshRecords(mixed).size() == 1);
+    CHECK(gmbtest::getLE(mixed, 10, 2) == 3);  // a CMS2 section: version 1.3
+    CHECK(gmbtest::listSections(mixed)[1].tag == "CMS2");
+    CHECK(gmbtest::compactRecords(mixed).size() == 1);
     CHECK(mixed[gmbtest::findSection(mixed, "MESH", 0).payload() + 16] == 0);  // float64
     CHECK(gmbtest::findSection(mixed, "MESH", 1).tag.empty());
     const Document mixedBack = gm::decodeGmb(mixed, gm::ReadLimits{});
@@ -324,11 +325,11 @@ TEST_CASE("compact round trip stays within the bounds on meshes of many shapes a
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
     const std::string bytes = gm::encodeGmb(doc, true);
-    CHECK(gmbtest::getLE(bytes, 10, 2) == 2);  // version 1.2
+    CHECK(gmbtest::getLE(bytes, 10, 2) == 3);  // version 1.3
     const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "compact.gmb");
     REQUIRE(back.meshes.size() == doc.meshes.size());
-    // Every one range-coded, in one CMSH section.
-    const auto records = gmbtest::cmshRecords(bytes);
+    // Every one range-coded, in one CMS2 section.
+    const auto records = gmbtest::compactRecords(bytes);
     REQUIRE(records.size() == doc.meshes.size());
     CHECK(gmbtest::listSections(bytes).size() == 3);
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
@@ -355,7 +356,7 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
         const std::string bytes = gm::encodeGmb(doc, true, level);
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "coarse.gmb");
         REQUIRE(back.meshes.size() == doc.meshes.size());
-        const auto records = gmbtest::cmshRecords(bytes);
+        const auto records = gmbtest::compactRecords(bytes);
         REQUIRE(records.size() == doc.meshes.size());  // still range-coded, not float64
         for (size_t k = 0; k < doc.meshes.size(); ++k) {
             INFO("mesh " << k);
@@ -377,9 +378,9 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
 }
 
 TEST_CASE("compact meshes decode by the written specification alone", "[roundtrip]") {
-    // An independent decoder written from the spec (gmb_spec_coded.h) reads every CMSH mesh
-    // record the writer produces, knots and nodes, to the same numbers as the reader, at every
-    // level.
+    // An independent decoder written from the spec (gmb_spec_coded.h) reads every mesh of the
+    // CMS2 sections the writer produces, knots and nodes, to the same numbers as the reader, at
+    // every level.
     const std::vector<GradientMesh> meshes = compactTestMeshes();
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
@@ -387,7 +388,7 @@ TEST_CASE("compact meshes decode by the written specification alone", "[roundtri
         INFO("level " << level);
         const std::string bytes = gm::encodeGmb(doc, true, level);
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
-        const auto records = gmbtest::cmshRecords(bytes);
+        const auto records = gmbtest::compactRecords(bytes);
         REQUIRE(records.size() == doc.meshes.size());
         for (size_t k = 0; k < doc.meshes.size(); ++k) {
             INFO("mesh " << k);
@@ -446,7 +447,7 @@ TEST_CASE("1.1 range-coded nodes still decode by the written specification alone
     }
 }
 
-TEST_CASE("CMSH holds what the 1.1 sections held, in far fewer bytes for small meshes",
+TEST_CASE("CMSH and CMS2 hold what the 1.1 sections held, in far fewer bytes for small meshes",
           "[roundtrip]") {
     // 15 meshes of 2x3 patches (a whole image cut into small regions): per-mesh overhead is most
     // of a 1.1 file.
@@ -462,10 +463,15 @@ TEST_CASE("CMSH holds what the 1.1 sections held, in far fewer bytes for small m
     }
     for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
         INFO("level " << level);
-        const std::string v12 = gm::encodeGmb(doc, true, level);
-        // The same meshes, byte for byte the same streams, in the 1.1 layout.
+        // The writer's CMS2 file, the same data in CMSH (1.2), and CMSH's very streams in the 1.1
+        // layout.
+        const std::string v13 = gm::encodeGmb(doc, true, level);
+        const std::string v12 = gmbtest::cms2AsCmsh(v13);
         const std::string v11 = gmbtest::cmshAs11(v12);
-        const Document back = gm::decodeGmb(v12, gm::ReadLimits{});
+        CHECK(gmbtest::getLE(v12, 10, 2) == 2);
+        CHECK(gmbtest::listSections(v12)[1].tag == "CMSH");
+        const Document back = gm::decodeGmb(v13, gm::ReadLimits{});
+        REQUIRE(gm::decodeGmb(v12, gm::ReadLimits{}) == back);
         REQUIRE(gm::decodeGmb(v11, gm::ReadLimits{}) == back);
         for (size_t k = 0; k < doc.meshes.size(); ++k)
             requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], k % 3 != 0), level);
@@ -475,12 +481,15 @@ TEST_CASE("CMSH holds what the 1.1 sections held, in far fewer bytes for small m
                                                 << 100.0 * v12.size() / v11.size() << " %), "
                                                 << perMesh12 << " B per mesh");
         CHECK(v12.size() * 10 < v11.size() * 7);  // at least 30 % smaller
+        WARN("  1.3 (CMS2) " << v13.size() << " B (" << 100.0 * v13.size() / v12.size()
+                             << " % of CMSH)");
+        CHECK(v13.size() * 100 < v12.size() * 95);  // at least 5 % smaller again
     }
 }
 
 TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at every level",
           "[roundtrip]") {
-    // Slits, tangent breaks, rule colours and a float64 fallback, mesh after mesh: CMSH runs
+    // Slits, tangent breaks, rule colours and a float64 fallback, mesh after mesh: CMS2 runs
     // broken by a MESH section.
     Document doc = singleMeshDocument(slitMeshWithBreaks(), 640, 480);
     GradientMesh rule = gm::makeHoledMesh(2, 10, 10, 300, 200, 11);
@@ -494,7 +503,7 @@ TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at ever
         const std::string bytes = gm::encodeGmb(doc, true, level);
         std::vector<std::string> tags;
         for (const gmbtest::SectionInfo& i : gmbtest::listSections(bytes)) tags.push_back(i.tag);
-        CHECK(tags == std::vector<std::string>{"DOCU", "CMSH", "MESH", "KNOT", "NODE", "CMSH", "END "});
+        CHECK(tags == std::vector<std::string>{"DOCU", "CMS2", "MESH", "KNOT", "NODE", "CMS2", "END "});
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
         REQUIRE(back.meshes.size() == doc.meshes.size());
         REQUIRE(back.meshes[2] == doc.meshes[2]);
@@ -506,6 +515,96 @@ TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at ever
         CHECK(back.meshes[1].slits.size() == 2);
         CHECK_FALSE(back.meshes[3].tangents.empty());
         CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+    }
+}
+
+namespace {
+
+// A whole image as small regions: 12 meshes of 2x2 to 5x2 patches; mesh 3 (4x2) has a slit on
+// row 1, mesh 5 a corner tangent break, mesh 7 colours by the rule, and mesh 6 has a coordinate
+// beyond the quantised range, so it stays float64 and splits the CMS2 run in two.
+Document smallRegions() {
+    Document doc;
+    doc.width = 640;
+    doc.height = 480;
+    for (unsigned k = 0; k < 12; ++k) {
+        const int C = 2 + static_cast<int>(k % 4), R = 2;
+        GradientMesh m = gm::makeCurvedMesh(C, R, 50.0 * (k % 4), 120.0 * (k / 4), 30.0 * C,
+                                            90, 0.5, 70 + k);
+        gmbtest::addFittingNoise(m, 80 + k);
+        if (k == 3) {
+            gm::Slit s;
+            s.row = 1;
+            s.i0 = 1;
+            s.i1 = 3;
+            gm::Node below = m.node(2, 1);
+            below.pos.y += 1.5;
+            m.node(2, 1).pos.y -= 1.5;
+            s.below.push_back(below);
+            s.left = {{0, -3}, {0.01, 0.02, 0.03}};
+            s.right = {{0, 3}, {-0.01, -0.02, -0.03}};
+            m.slits.push_back(s);
+        }
+        if (k == 5) m.tangents.push_back({1, 0, 1, 1, {12.5, -3.25}, {0.05, -0.1, 0.02}});
+        if (k == 6) m.node(1, 1).pos.x = 1e20;
+        if (k == 7) gm::applyColorRule(m);
+        doc.meshes.push_back(m);
+    }
+    return doc;
+}
+
+}  // namespace
+
+TEST_CASE("CMS2 runs of small meshes round-trip within the bounds and beat CMSH", "[roundtrip]") {
+    const Document doc = smallRegions();
+    REQUIRE(gm::validateDocument(doc).empty());
+    REQUIRE(gm::followsColorRule(doc.meshes[7]));
+    for (int level : {0, 2, 4, 5}) {
+        INFO("level " << level);
+        const std::string v13 = gm::encodeGmb(doc, true, level);
+        CHECK(gmbtest::getLE(v13, 10, 2) == 3);
+        std::vector<std::string> tags;
+        for (const gmbtest::SectionInfo& i : gmbtest::listSections(v13)) tags.push_back(i.tag);
+        CHECK(tags == std::vector<std::string>{"DOCU", "CMS2", "MESH", "KNOT", "NODE", "CMS2", "END "});
+        const auto records = gmbtest::compactRecords(v13);
+        REQUIRE(records.size() == 11);
+        CHECK(records[3].slits == 1);
+        CHECK(records[5].tangents == 1);
+        CHECK(records[6].byRule);  // mesh 7: mesh 6 (float64) has no record
+        const Document back = gm::decodeGmb(v13, gm::ReadLimits{}, "regions.gmb");
+        REQUIRE(back.meshes.size() == doc.meshes.size());
+        REQUIRE(back.meshes[6] == doc.meshes[6]);  // float64, exactly
+        for (size_t k = 0; k < doc.meshes.size(); ++k) {
+            if (k == 6) continue;
+            INFO("mesh " << k);
+            requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], k != 7), level);
+        }
+        CHECK(back.meshes[3].slits.size() == 1);
+        CHECK(back.meshes[5].tangents.size() == 1);
+        CHECK(gm::followsColorRule(back.meshes[7]));
+        // Stable on its own grid.
+        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+        // The very same data in CMSH sections (1.2) reads to the same document and is larger.
+        const std::string v12 = gmbtest::cms2AsCmsh(v13);
+        REQUIRE(gm::decodeGmb(v12, gm::ReadLimits{}) == back);
+        WARN("12 small meshes, level " << level << ": CMSH " << v12.size() << " B, CMS2 "
+                                       << v13.size() << " B (" << 100.0 * v13.size() / v12.size()
+                                       << " %)");
+        CHECK(v13.size() * 100 < v12.size() * 92);  // at least 8 % smaller
+    }
+}
+
+TEST_CASE("a single big mesh is no larger in CMS2 than in CMSH", "[roundtrip]") {
+    for (int level : {0, 5}) {
+        INFO("level " << level);
+        GradientMesh m = gm::makeCurvedMesh(32, 24, 16, 16, 480, 400, 1.0, 21);
+        gmbtest::addFittingNoise(m, 22);
+        const std::string v13 = gm::encodeGmb(singleMeshDocument(m), true, level);
+        const std::string v12 = gmbtest::cms2AsCmsh(v13);
+        REQUIRE(gm::decodeGmb(v12, gm::ReadLimits{}) == gm::decodeGmb(v13, gm::ReadLimits{}));
+        WARN("32x24 mesh, level " << level << ": CMSH " << v12.size() << " B, CMS2 " << v13.size()
+                                  << " B");
+        CHECK(v13.size() <= v12.size() + 4);
     }
 }
 

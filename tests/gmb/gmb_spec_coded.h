@@ -1,5 +1,5 @@
-// An independent reading of the NODE payload of encoding 2 (range-coded) and of CMSH sections
-// (version 1.2), written from the specification at the top of formats/gmb/src/gmb_format.cpp
+// An independent reading of the NODE payload of encoding 2 (range-coded), of CMSH sections
+// (version 1.2) and of CMS2 sections (version 1.3), written from the specification at the top of formats/gmb/src/gmb_format.cpp
 // rather than from the reader: the tests decode the writer's files with it (so the spec is
 // enough to write a decoder), and build range-coded payloads that the writer never produces
 // (malformed cases).
@@ -238,41 +238,50 @@ struct SpecWeights {
 static const int kSpecOrder[15] = {0, 1, 7, 6, 8, 2, 3, 4, 5, 10, 9, 11, 13, 12, 14};
 static const int kSpecValueOf[15] = {-1, -1, 0, 1, 0, 1, -1, -1, -1, 6, 7, 8, 6, 7, 8};
 
-// Decodes the range-coded stream at bytes.pos to the q planes, indexed [component][node] in
-// node-record order, leaving bytes.pos just after the stream. Throws std::runtime_error where
-// the spec says the data is bad.
-inline std::vector<std::vector<int64_t>> specDecodePlanes(SpecBytes& bytes, const SpecMeshInfo& in,
-                                                          const SpecWeights& w) {
-    const std::string& payload = bytes.s;
+// The context of residual (i, j) of a plane from the residuals around it: `r` this plane's,
+// `S` the sibling plane's residual at (i, j) (0 without one).
+inline int specContext(const std::vector<int64_t>& r, int64_t S, int C, int i, int j) {
+    auto mag = [&](int ii, int jj) -> uint64_t {
+        if (ii < 0 || ii > C || jj < 0) return 0;
+        const uint64_t x = specAbs(r[static_cast<size_t>(jj) * (C + 1) + ii]);
+        return x > (uint64_t(1) << 40) ? uint64_t(1) << 40 : x;
+    };
+    uint64_t S40 = specAbs(S);
+    if (S40 > (uint64_t(1) << 40)) S40 = uint64_t(1) << 40;
+    const uint64_t msum = 2 * mag(i - 1, j) + 2 * mag(i, j - 1) + mag(i - 1, j - 1) +
+                          mag(i + 1, j - 1) + mag(i - 2, j) + 3 * S40;
+    const int x = specBitLength(msum);
+    return x > 15 ? 15 : x;
+}
+
+static const int kSpecSibling[15] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
+
+// Decodes the planes of one mesh from `dec` to q (returned) and the residuals (`res`), both
+// indexed [component][node] in node-record order. `persistent`: the models of the 15 components
+// that a CMS2 stream keeps across meshes; null: fresh models for every plane (NODE, CMSH).
+// Throws std::runtime_error where the spec says the data is bad.
+inline std::vector<std::vector<int64_t>> specDecodePlanesWith(
+    SpecRangeDecoder& dec, const SpecMeshInfo& in, const SpecWeights& w,
+    SpecPlaneModels* persistent, std::vector<std::vector<int64_t>>& r) {
     const int* order = kSpecOrder;
     const int* valueOf = kSpecValueOf;
-    static const int sibling[15] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
+    const int* sibling = kSpecSibling;
     static const int fieldOf[15] = {1, 1, 2, 2, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6};
     const int C = in.C, R = in.R;
     const size_t n = static_cast<size_t>(C + 1) * (R + 1);
     const int64_t *wa = w.a, *wb = w.b, *ws = w.s;
     const std::vector<int64_t> Du = specSpans(in.ku), Dv = specSpans(in.kv);
-    std::vector<std::vector<int64_t>> q(15, std::vector<int64_t>(n, 0)),
-        r(15, std::vector<int64_t>(n, 0));
-    SpecRangeDecoder dec(payload, bytes.pos);
+    std::vector<std::vector<int64_t>> q(15, std::vector<int64_t>(n, 0));
+    r.assign(15, std::vector<int64_t>(n, 0));
     auto at = [&](int i, int j) { return static_cast<size_t>(j) * (C + 1) + i; };
     for (int o = 0; o < in.F; ++o) {
         const int c = order[o];
-        SpecPlaneModels m;
+        SpecPlaneModels fresh;
+        SpecPlaneModels& m = persistent ? persistent[c] : fresh;
         for (int j = 0; j <= R; ++j) {
             for (int i = 0; i <= C; ++i) {
-                auto mag = [&](int ii, int jj) -> uint64_t {
-                    if (ii < 0 || ii > C || jj < 0) return 0;
-                    const uint64_t x = specAbs(r[c][at(ii, jj)]);
-                    return x > (uint64_t(1) << 40) ? uint64_t(1) << 40 : x;
-                };
                 const int64_t S = sibling[c] >= 0 ? r[sibling[c]][at(i, j)] : 0;
-                uint64_t S40 = specAbs(S);
-                if (S40 > (uint64_t(1) << 40)) S40 = uint64_t(1) << 40;
-                const uint64_t msum = 2 * mag(i - 1, j) + 2 * mag(i, j - 1) + mag(i - 1, j - 1) +
-                                      mag(i + 1, j - 1) + mag(i - 2, j) + 3 * S40;
-                int x = specBitLength(msum);
-                if (x > 15) x = 15;
+                const int x = specContext(r[c], S, C, i, j);
                 // The residual.
                 SpecInt res = 0;
                 if (dec.decision(m.zero[x])) {
@@ -329,6 +338,16 @@ inline std::vector<std::vector<int64_t>> specDecodePlanes(SpecBytes& bytes, cons
             }
         }
     }
+    return q;
+}
+
+// Decodes the range-coded stream at bytes.pos to the q planes, indexed [component][node] in
+// node-record order, leaving bytes.pos just after the stream (fresh models in every plane).
+inline std::vector<std::vector<int64_t>> specDecodePlanes(SpecBytes& bytes, const SpecMeshInfo& in,
+                                                          const SpecWeights& w) {
+    SpecRangeDecoder dec(bytes.s, bytes.pos);
+    std::vector<std::vector<int64_t>> r;
+    auto q = specDecodePlanesWith(dec, in, w, nullptr, r);
     bytes.pos = dec.position();
     return q;
 }
@@ -359,7 +378,9 @@ struct SpecCmshMesh {
     uint64_t weightsMask = 0;
     SpecWeights weights;                  // every plane's, defaults included
     std::vector<std::vector<int64_t>> q;  // [component][node]
-    // Where its parts begin in the payload (`end`: the next record).
+    std::vector<std::vector<int64_t>> r;  // the residuals, likewise (CMS2 only)
+    std::string tail;                     // slits and breaks in the CMSH layout (CMS2 only)
+    // Where its parts begin in the payload (`end`: the next record); CMSH only.
     size_t start = 0, knotsAt = 0, weightsAt = 0, streamAt = 0, slitsAt = 0, tangentsAt = 0,
            end = 0;
 };
@@ -451,6 +472,207 @@ inline std::vector<SpecCmshMesh> specDecodeCmsh(const std::string& payload) {
     return out;
 }
 
+
+// The models of one kind of integer of a CMS2 stream.
+struct SpecIntModels {
+    SpecModel zero, sign, length[24], top[64];
+};
+
+// Decodes a CMS2 payload (version 1.3): every mesh's counts, knots, weights, node planes (q and
+// residuals), and its slits and tangent breaks, which it also lays out as CMSH would (`tail`).
+// Throws std::runtime_error where the spec says the data is bad.
+inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload) {
+    SpecBytes bytes{payload};
+    const uint64_t M = bytes.varint();
+    if (M == 0) throw std::runtime_error("no mesh");
+    int shared[7] = {};
+    for (int f = 1; f < 7; ++f) shared[f] = static_cast<int>(bytes.svarint());
+    SpecRangeDecoder dec(payload, bytes.pos);
+    // The model sets, fresh here and kept across the meshes: Size, Count, Flags, KnotExponent,
+    // KnotStart, KnotStep, WeightDelta, SlitIndex, SlitEnd, SlitBelow, TangentIndex,
+    // TangentValue; the weights decisions of the 15 plane positions; the 15 planes' residuals.
+    enum { Size, Count, Flags, KnotExponent, KnotStart, KnotStep, WeightDelta, SlitIndex, SlitEnd,
+           SlitBelow, TangentIndex, TangentValue, Kinds };
+    std::vector<SpecIntModels> kinds(Kinds);
+    std::vector<SpecModel> weighted(15);
+    std::vector<SpecPlaneModels> planes(15);
+    auto magnitude = [&](SpecIntModels& m) {
+        int len = 0;
+        while (len < 63 && dec.decision(m.length[len < 23 ? len : 23])) ++len;
+        uint64_t x = uint64_t(1) << len;
+        if (len >= 1) {
+            x |= uint64_t(dec.decision(m.top[len])) << (len - 1);
+            for (int k = len - 2; k >= 0; --k) x |= uint64_t(dec.direct()) << k;
+        }
+        return x;
+    };
+    auto U = [&](int kind) -> uint64_t {
+        SpecIntModels& m = kinds[static_cast<size_t>(kind)];
+        return dec.decision(m.zero) ? magnitude(m) : 0;
+    };
+    auto S = [&](int kind) -> int64_t {
+        SpecIntModels& m = kinds[static_cast<size_t>(kind)];
+        if (!dec.decision(m.zero)) return 0;
+        const int negative = dec.decision(m.sign);
+        const uint64_t x = magnitude(m);
+        if (x >= (uint64_t(1) << 63)) throw std::runtime_error("integer out of range");
+        return negative ? -static_cast<int64_t>(x) : static_cast<int64_t>(x);
+    };
+    auto putVarint = [](std::string& s, uint64_t z) {
+        while (z >= 0x80) {
+            s.push_back(static_cast<char>((z & 0x7f) | 0x80));
+            z >>= 7;
+        }
+        s.push_back(static_cast<char>(z));
+    };
+    std::vector<SpecCmshMesh> out;
+    for (uint64_t k = 0; k < M; ++k) {
+        SpecCmshMesh m;
+        m.info.C = static_cast<int>(U(Size));
+        m.info.R = static_cast<int>(U(Size));
+        m.slits = static_cast<int>(U(Count));
+        m.tangents = static_cast<int>(U(Count));
+        const uint64_t flags = U(Flags);
+        if (flags > 1) throw std::runtime_error("unknown flags");
+        m.byRule = flags & 1;
+        m.info.F = m.byRule ? 9 : 15;
+        for (int f = 1; f < 7; ++f) m.info.e[f] = shared[f];
+        m.info.e[0] = static_cast<int>(S(KnotExponent));
+        for (std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
+            const int count = (knots == &m.info.ku ? m.info.C : m.info.R) + 1;
+            int64_t q = S(KnotStart);
+            knots->push_back(q);
+            for (int i = 1; i < count; ++i) {
+                q += static_cast<int64_t>(U(KnotStep)) + 1;
+                knots->push_back(q);
+            }
+        }
+        SpecWeights w = specCmshDefaults();
+        for (int o = 0; o < m.info.F; ++o) {
+            if (!dec.decision(weighted[static_cast<size_t>(o)])) continue;
+            m.weightsMask |= uint64_t(1) << o;
+            const int c = kSpecOrder[o];
+            w.a[c] += S(WeightDelta);
+            if (kSpecValueOf[c] < 0) w.b[c] += S(WeightDelta);
+            w.s[c] += S(WeightDelta);
+            for (int64_t x : {w.a[c], w.b[c], w.s[c]})
+                if (x > 32768 || x < -32768) throw std::runtime_error("weight out of range");
+        }
+        m.weights = w;
+        m.q = specDecodePlanesWith(dec, m.info, w, planes.data(), m.r);
+        const int endValues = m.byRule ? 2 : 5;
+        for (int sl = 0; sl < m.slits; ++sl) {
+            const uint64_t row = U(SlitIndex), i0 = U(SlitIndex), i1 = U(SlitIndex);
+            if (i1 <= i0) throw std::runtime_error("bad slit");
+            for (uint64_t x : {row, i0, i1}) putVarint(m.tail, x);
+            for (int x = 0; x < 2 * endValues; ++x) putSvarint(m.tail, S(SlitEnd));
+            for (uint64_t x = 0; x < (i1 - i0 - 1) * static_cast<uint64_t>(m.info.F); ++x)
+                putSvarint(m.tail, S(SlitBelow));
+        }
+        for (int t = 0; t < m.tangents; ++t) {
+            putVarint(m.tail, U(TangentIndex));  // i
+            putVarint(m.tail, U(TangentIndex));  // j
+            const uint64_t corner = U(TangentIndex);
+            if (corner > 3) throw std::runtime_error("bad corner");
+            m.tail.push_back(static_cast<char>(corner));
+            for (int x = 0; x < endValues; ++x) putSvarint(m.tail, S(TangentValue));
+        }
+        out.push_back(std::move(m));
+    }
+    if (dec.position() != payload.size()) throw std::runtime_error("bytes after the stream");
+    return out;
+}
+
+// Writes CMS2 streams integer by integer, as the spec defines them, for crafting payloads the
+// writer never produces (malformed cases). Kinds are numbered as in specDecodeCms2.
+class SpecCms2Writer {
+public:
+    enum { Size, Count, Flags, KnotExponent, KnotStart, KnotStep, WeightDelta, SlitIndex, SlitEnd,
+           SlitBelow, TangentIndex, TangentValue, Kinds };
+    void U(int kind, uint64_t x) {
+        SpecIntModels& m = kinds_[kind];
+        enc_.decision(m.zero, x != 0);
+        if (x != 0) magnitude(m, x);
+    }
+    void S(int kind, int64_t x) {
+        SpecIntModels& m = kinds_[kind];
+        enc_.decision(m.zero, x != 0);
+        if (x == 0) return;
+        enc_.decision(m.sign, x < 0);
+        magnitude(m, specAbs(x));
+    }
+    // Whether the o-th plane in coding order states its weights.
+    void weighted(int o, int x) { enc_.decision(weighted_[o], x); }
+    // A residual of component c's plane in context ctx.
+    void residual(int c, int ctx, int64_t r) { enc_.residual(planes_[c], ctx, r); }
+    std::string finish() { return enc_.finish(); }
+
+private:
+    void magnitude(SpecIntModels& m, uint64_t x) {
+        const int n = specBitLength(x) - 1;
+        for (int k = 0; k < n; ++k) enc_.decision(m.length[k < 23 ? k : 23], 1);
+        if (n < 63) enc_.decision(m.length[n < 23 ? n : 23], 0);
+        if (n >= 1) {
+            enc_.decision(m.top[n], static_cast<int>((x >> (n - 1)) & 1));
+            for (int k = n - 2; k >= 0; --k) enc_.direct(static_cast<int>((x >> k) & 1));
+        }
+    }
+    SpecRangeEncoder enc_;
+    SpecIntModels kinds_[Kinds];
+    SpecModel weighted_[15];
+    SpecPlaneModels planes_[15];
+};
+
+// The CMSH payload (version 1.2) of the meshes of a CMS2 payload: the same weights, residuals,
+// knots, slits and breaks, in CMSH's layout (every plane coded with fresh models, one stream
+// per mesh).
+inline std::string specCms2AsCmsh(const std::string& payload) {
+    SpecBytes head{payload};
+    head.varint();
+    for (int f = 1; f < 7; ++f) head.svarint();
+    std::string out = payload.substr(0, head.pos);
+    auto putVarint = [](std::string& s, uint64_t z) {
+        while (z >= 0x80) {
+            s.push_back(static_cast<char>((z & 0x7f) | 0x80));
+            z >>= 7;
+        }
+        s.push_back(static_cast<char>(z));
+    };
+    const SpecWeights d = specCmshDefaults();
+    for (const SpecCmshMesh& m : specDecodeCms2(payload)) {
+        for (int x : {m.info.C, m.info.R, m.slits, m.tangents}) putVarint(out, static_cast<uint64_t>(x));
+        out.push_back(m.byRule ? 1 : 0);
+        putSvarint(out, m.info.e[0]);
+        for (const std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
+            putSvarint(out, knots->front());
+            for (size_t i = 1; i < knots->size(); ++i)
+                putVarint(out, static_cast<uint64_t>((*knots)[i] - (*knots)[i - 1]));
+        }
+        putVarint(out, m.weightsMask);
+        for (int o = 0; o < m.info.F; ++o) {
+            if (!((m.weightsMask >> o) & 1)) continue;
+            const int c = kSpecOrder[o];
+            putSvarint(out, m.weights.a[c] - d.a[c]);
+            if (kSpecValueOf[c] < 0) putSvarint(out, m.weights.b[c] - d.b[c]);
+            putSvarint(out, m.weights.s[c] - d.s[c]);
+        }
+        SpecRangeEncoder enc;
+        const int C = m.info.C;
+        for (int o = 0; o < m.info.F; ++o) {
+            const int c = kSpecOrder[o];
+            SpecPlaneModels models;
+            for (int j = 0; j <= m.info.R; ++j)
+                for (int i = 0; i <= C; ++i) {
+                    const size_t k = static_cast<size_t>(j) * (C + 1) + i;
+                    const int64_t S = kSpecSibling[c] >= 0 ? m.r[kSpecSibling[c]][k] : 0;
+                    enc.residual(models, specContext(m.r[c], S, C, i, j), m.r[c][k]);
+                }
+        }
+        out += enc.finish();
+        out += m.tail;
+    }
+    return out;
+}
 
 // Component c (node-record order) of a node.
 inline double nodeValue(const gm::Node& n, int c) {

@@ -1,4 +1,4 @@
-// .gmb — the native binary format of gradmesh, version 1.2. This comment is the specification.
+// .gmb — the native binary format of gradmesh, version 1.3. This comment is the specification.
 //
 // Conventions. Integers are little-endian and fixed-width unless called varint. f64 is an
 // IEEE 754 binary64 stored as its 8 bytes, little-endian. varint: unsigned LEB128, at most 10
@@ -11,13 +11,14 @@
 // Header, 12 bytes
 //    0   8  magic 89 47 4D 42 0D 0A 1A 0A ("\x89GMB\r\n\x1a\n")
 //    8   2  major version, 1. A reader refuses a major it does not know.
-//   10   2  minor version: 2 if the file has a CMSH section, else 1 if some MESH section says
-//           encoding 2, else 0 (a writer marks the lowest version that holds the file, so
-//           lossless files remain 1.0 files). A newer minor may add optional sections, append
-//           fields to the DOCU and MESH payloads (a reader of an older minor skips both), add
-//           mesh encodings (an older reader refuses a mesh in an encoding it does not know: 1.0
-//           readers refuse encoding 2) and add required sections (an older reader refuses the
-//           file: 1.1 readers refuse CMSH as an unknown required section).
+//   10   2  minor version: 3 if the file has a CMS2 section, else 2 if it has a CMSH section
+//           (only 1.2 writers wrote those), else 1 if some MESH section says encoding 2, else 0
+//           (a writer marks the lowest version that holds the file, so lossless files remain
+//           1.0 files). A newer minor may add optional sections, append fields to the DOCU and
+//           MESH payloads (a reader of an older minor skips both), add mesh encodings (an older
+//           reader refuses a mesh in an encoding it does not know: 1.0 readers refuse encoding
+//           2) and add required sections (an older reader refuses the file: 1.1 readers refuse
+//           CMSH, 1.2 readers CMS2, as unknown required sections).
 //
 // Section, 28 + S bytes
 //    0   4  tag, four ASCII characters
@@ -37,17 +38,17 @@
 //     MESH KNOT NODE      always
 //     SLIT                if and only if the mesh has slits
 //     TANG                if and only if the mesh has corner tangent breaks
-//   or in a CMSH section (since 1.2), which holds a run of one or more consecutive meshes in
-//   encoding 2; a file may mix both (a writer's compact mode writes float64 MESH sections for
-//   meshes it cannot quantise)
+//   or in a CMSH section (since 1.2) or a CMS2 section (since 1.3), each of which holds a run
+//   of one or more consecutive meshes in encoding 2; a file may mix them (a writer's compact
+//   mode writes CMS2 sections, and float64 MESH sections for meshes it cannot quantise)
 //   END                   once, last, empty payload
 // Every section defined by 1.x is required (flags bit 0 clear).
 //
 // DOCU payload, 12 bytes: u32 canvas width, u32 canvas height (pixels), u32 mesh count.
 // MESH payload, 32 bytes: u32 C (patch columns), u32 R (patch rows), u32 slit count,
 //   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised (1.0),
-//   2 quantised and range-coded (since 1.1; since 1.2 the writer's compact mode writes such
-//   meshes as CMSH records instead)), u8 flags (bit 0: colour derivatives omitted; the reader
+//   2 quantised and range-coded (since 1.1; the writer's compact mode writes such meshes as
+//   CMSH records since 1.2 and in CMS2 sections since 1.3 instead)), u8 flags (bit 0: colour derivatives omitted; the reader
 //   recomputes them with applyColorRule from the decoded mesh; other bits 0, ignored by a 1.x
 //   reader), 7 × i16 exponents e for the quantised fields knot, pos, posU, posV, col, colU,
 //   colV (0 for float64), each within ±960. Encodings 1 and 2: a quantised knot, position or colour q of field f stands for
@@ -114,7 +115,8 @@
 //       derivative plane along v: the same along column i with rows j0, j1, the v knots, D_j
 //     then p is clamped to ±2^62 (the terms stay within 128 bits). Every q must satisfy
 //     |q| <= 2^53, and every residual is then within 64 bits.
-//     Residuals. Each plane has its own models (below), fresh in every NODE section:
+//     Residuals. Each plane has its own models (below), fresh in every NODE section (and in
+//     every CMSH mesh record; CMS2 keeps them across its meshes, see there):
 //     zero[16], sign[16], length[16][24], top[64]. For r(i,j), with |x| capped at 2^40 and
 //     terms for residuals outside the grid 0, the context is x = min(bit length of z, 15) of
 //       z = 2|r(i-1,j)| + 2|r(i,j-1)| + |r(i-1,j-1)| + |r(i+1,j-1)| + |r(i-2,j)| + 3|S|
@@ -170,6 +172,68 @@
 //       colU.g, colV.g                         a = 192,           s = 0
 //       colU.r, colU.b, colV.r, colV.b         a = 224,           s = 240
 //
+// Compact meshes in one stream, CMS2 (since 1.3; the writer's compact mode writes these instead
+// of CMSH): a run of M consecutive meshes in encoding 2 in one section, all of it but M and the
+// shared exponents in one range-coded stream whose models learn from mesh to mesh. The meshes'
+// quantisation, spans, prediction, contexts and residual binarisation are those of encoding 2,
+// and their plane weights those of CMSH (defaults, or stated differences from them); only the
+// layout and the life of the models differ. The section is always stored (codec 0): a reader
+// refuses other codecs, and a CMS2 section in a file whose minor version is below 3.
+//   Payload
+//     varint M, the meshes in the run: at least 1, at most those DOCU declares that are not
+//       yet read
+//     6 svarints: e_pos, e_posU, e_posV, e_col, e_colU, e_colV of every mesh of the run, each
+//       within ±960 (as in CMSH)
+//     one range-coded stream (the coder, decisions, direct bits and models of encoding 2) that
+//       ends exactly where the payload ends: the payload holds the bytes its decoder reads and
+//       nothing after them
+//   Stream integers. Outside the node planes the stream holds integers, each of one of the kinds
+//   below; each kind has its own models zero, sign, length[24], top[64] (no contexts). An
+//   unsigned integer x: the decision x != 0 with zero; if so, x as a magnitude. A signed
+//   integer x: x != 0 with zero; if so, x < 0 with sign, then |x| as a magnitude, which must be
+//   below 2^63. A magnitude m >= 1, with n = (bit length of m) - 1: n decisions 1 and then a
+//   decision 0 (left out when n = 63), the k-th of them (k = 0, 1, ...) with length[min(k, 23)];
+//   if n >= 1, the bit of m below its leading 1 with top[n], then its n - 1 lower bits, most
+//   significant first, as direct bits. (A residual's binarisation, with a single context.)
+//   The 12 kinds and what they code:
+//     Size          C, R                          Count         slit count, break count
+//     Flags         mesh flags                    KnotExponent  e_knot (signed)
+//     KnotStart     q(u_0), q(v_0) (signed)       KnotStep      knot difference - 1
+//     WeightDelta   stated weight - default (s.)  SlitIndex     row, i0, i1
+//     SlitEnd       slit-end tangents (signed)    SlitBelow     below-copy residuals (signed)
+//     TangentIndex  i, j, a | b << 1              TangentValue  break tangents (signed)
+//   Models. At the start of every CMS2 section every model of its stream is fresh (A = B =
+//   32768, c = 0): the 12 kinds' models; 15 weights models weighted[0..14], one per position
+//   in the coding order of the planes; 15 sets of residual models zero[16], sign[16],
+//   length[16][24], top[64], one per node-record component. None is reset within the section:
+//   each mesh begins with the models as the meshes before it left them. A mesh whose colour
+//   derivatives are omitted (F = 9) uses only weighted[0..8] and the residual models of its nine
+//   planes (components 0 to 8); the others keep their state for later meshes.
+//   Each mesh, in the stream, in order:
+//     C, R (Size), the slit count and the corner tangent break count (Count), unsigned; the
+//       counts as in MESH
+//     flags (Flags), unsigned: bit 0 = colour derivatives omitted, as in MESH; must be 0 or 1
+//     e_knot (KnotExponent), signed, within ±960; with the shared exponents it must satisfy
+//       encoding 2's rules (|e_f - e_knot| <= 960, |e_f - e_v| <= 16)
+//     the knots: q(u_0) (KnotStart, signed), then for i = 1 .. C, q(u_i) - q(u_{i-1}) - 1
+//       (KnotStep, unsigned: the knots increase strictly); then the v knots likewise, R steps.
+//       Every q(u_i) and q(v_j) is within ±2^53.
+//     the plane weights: for each plane in coding order (o = 0 .. F-1), a decision with
+//       weighted[o], 1 if the plane states its weights; if so, then da, db (value planes only)
+//       and ds (WeightDelta, signed): its weights are CMSH's default weights plus these, each
+//       within ±32768. A plane that does not state its weights has the default weights.
+//     the node planes: in coding order, each plane's residuals r(i,j), row-major, with the
+//       prediction and the contexts of encoding 2 (within this mesh), each coded as in NODE
+//       with the residual models of the plane's node-record component
+//     per slit: row, i0, i1 (SlitIndex, unsigned); the left end's posU.x posU.y [colU.r colU.g
+//       colU.b], then the right end's, each a q (SlitEnd, signed; colU absent when colour
+//       derivatives are omitted); then the i1 - i0 - 1 below copies, each the F components of a
+//       node record in record order as q(below) - q(node above the row in the same column)
+//       (SlitBelow, signed): the values of encoding 2's SLIT
+//     per corner tangent break: i, j, a | b << 1 (TangentIndex, unsigned; the last at most 3);
+//       then posU.x posU.y [colU.r colU.g colU.b] (TangentValue, signed): encoding 2's TANG
+//   A writer may choose any weights; the stream decodes to the same values whatever it chose.
+//
 // Reading limits. Every count is checked against ReadLimits and against the bytes that remain
 // before anything is allocated. A section's declared N must fit its counts, and the sum of the
 // N of all sections may not exceed ReadLimits::maxFileBytes, a NODE in encoding 1 or 2
@@ -184,6 +248,21 @@
 // A range-coded stream of V values is more than 4 + V/11730 bytes long (every decision narrows
 // R to at most 1 - 31/2^16 of itself, and R >= 2^24 at the end): a reader refuses nodes whose
 // remaining bytes are fewer than V/16384 before allocating their planes.
+// A CMS2 section counts its N and, for each mesh, 8 bytes for each value it decodes to,
+// charged as soon as the mesh's counts, flags and e_knot are decoded: F·(C+1)(R+1) node values,
+// 3 + 2E per slit and 3 + E per corner tangent break (E = 2 values per tangent when colour
+// derivatives are omitted, else 5); and F per below copy of a slit, charged once the slit's
+// i0 and i1 are decoded. The counts are checked against ReadLimits as in MESH. Each value in the
+// stream takes at least one decision, so where fewer than V/16384 bytes of the payload are
+// still unread by the stream's decoder, a reader refuses, before allocating them, the knots
+// (V = C + R + 2), the node planes (V = F·(C+1)(R+1)), the slits (V = slits · (3 + 2E)), a slit's
+// below copies (V = F·(i1 - i0 - 1)) and the corner tangent breaks (V = breaks · (3 + E)).
+// A mesh of a CMS2 stream takes at least 57 decisions (C, R 2 each; the two counts, the flags,
+// e_knot, two knot starts and at least two steps 1 each; 9 weights decisions; 36 residuals), so
+// M meshes need more than 4 + M/206 bytes: a reader refuses M when fewer than M/256 bytes of the
+// payload remain after the exponents, and a 1.3 file whose DOCU declares more meshes than 256
+// times the bytes after DOCU (1.2 files: 16 bytes per mesh, the smallest CMSH record; 1.0 and
+// 1.1 files: 84, the smallest MESH KNOT NODE sections).
 #include <algorithm>
 
 #include "formats/atomic_file.h"

@@ -177,32 +177,52 @@ struct ResidualModels {
     BitModel zero[kContexts], sign[kContexts], length[kContexts][kLengthModels], top[64];
 };
 
+// A magnitude m >= 1, with n = (bit length of m) - 1: n decisions 1 and a decision 0 (left out
+// when n = 63), the k-th with length[min(k, 23)]; if n >= 1, the bit below the leading 1 with
+// top[n], then the n - 1 lower bits as direct bits. Residuals and stream integers alike.
+void encodeMagnitude(RangeEncoder& enc, BitModel* length, BitModel* top, uint64_t mag) {
+    const int n = 63 - __builtin_clzll(mag);
+    for (int k = 0; k < n; ++k) enc.encode(length[std::min(k, kLengthModels - 1)], 1);
+    if (n < 63) enc.encode(length[std::min(n, kLengthModels - 1)], 0);
+    if (n >= 1) {
+        enc.encode(top[n], static_cast<int>((mag >> (n - 1)) & 1));
+        for (int k = n - 2; k >= 0; --k) enc.direct(static_cast<int>((mag >> k) & 1));
+    }
+}
+
+uint64_t decodeMagnitude(RangeDecoder& dec, BitModel* length, BitModel* top) {
+    int n = 0;
+    while (n < 63 && dec.decode(length[std::min(n, kLengthModels - 1)])) ++n;
+    uint64_t mag = uint64_t(1) << n;
+    if (n >= 1) {
+        mag |= static_cast<uint64_t>(dec.decode(top[n])) << (n - 1);
+        for (int k = n - 2; k >= 0; --k) mag |= static_cast<uint64_t>(dec.direct()) << k;
+    }
+    return mag;
+}
+
+uint64_t absolute(int64_t e) {
+    return e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e);
+}
+
 void encodeResidual(RangeEncoder& enc, ResidualModels& m, int x, int64_t e) {
     enc.encode(m.zero[x], e != 0);
     if (e == 0) return;
     enc.encode(m.sign[x], e < 0);
-    const uint64_t mag = e < 0 ? 0 - static_cast<uint64_t>(e) : static_cast<uint64_t>(e);
-    const int n = 63 - __builtin_clzll(mag);
-    for (int k = 0; k < n; ++k) enc.encode(m.length[x][std::min(k, kLengthModels - 1)], 1);
-    if (n < 63) enc.encode(m.length[x][std::min(n, kLengthModels - 1)], 0);
-    if (n >= 1) {
-        enc.encode(m.top[n], static_cast<int>((mag >> (n - 1)) & 1));
-        for (int k = n - 2; k >= 0; --k) enc.direct(static_cast<int>((mag >> k) & 1));
-    }
+    encodeMagnitude(enc, m.length[x], m.top, absolute(e));
 }
 
 int128 decodeResidual(RangeDecoder& dec, ResidualModels& m, int x) {
     if (!dec.decode(m.zero[x])) return 0;
     const bool negative = dec.decode(m.sign[x]);
-    int n = 0;
-    while (n < 63 && dec.decode(m.length[x][std::min(n, kLengthModels - 1)])) ++n;
-    uint64_t mag = uint64_t(1) << n;
-    if (n >= 1) {
-        mag |= static_cast<uint64_t>(dec.decode(m.top[n])) << (n - 1);
-        for (int k = n - 2; k >= 0; --k) mag |= static_cast<uint64_t>(dec.direct()) << k;
-    }
+    const uint64_t mag = decodeMagnitude(dec, m.length[x], m.top);
     return negative ? -int128(mag) : int128(mag);
 }
+
+// The models of one kind of integer in a CMS2 stream: a residual's with a single context.
+struct IntegerModels {
+    BitModel zero, sign, length[kLengthModels], top[64];
+};
 
 // ---- Writer side: choosing the weights (any choice decodes; these are the cheapest we find).
 
@@ -276,11 +296,23 @@ double decisionBits(BitModel& m, int bit) {
     return -std::log2(bit ? p : 1 - p);
 }
 
+// What encodeMagnitude takes, in bits (the models learn, as when coding).
+double magnitudeBits(BitModel* length, BitModel* top, uint64_t mag) {
+    const int n = 63 - __builtin_clzll(mag);
+    double bits = 0;
+    for (int k = 0; k < n; ++k) bits += decisionBits(length[std::min(k, kLengthModels - 1)], 1);
+    if (n < 63) bits += decisionBits(length[std::min(n, kLengthModels - 1)], 0);
+    if (n >= 1)  // the bit below the leading 1, then n - 1 direct bits
+        bits += decisionBits(top[n], static_cast<int>((mag >> (n - 1)) & 1)) + (n - 1);
+    return bits;
+}
+
 // What coding one plane's residuals `e` takes, in bits, exactly as encodeResidual codes them
-// (fresh models, the contexts of the plane and its sibling's residuals).
+// (the contexts of the plane and its sibling's residuals), from the models `start` on;
+// `scratch` does the learning.
 double planeBits(const CodedGrid& g, const int64_t* e, const int64_t* sibling,
-                 ResidualModels& models) {
-    models = ResidualModels();
+                 const ResidualModels& start, ResidualModels& scratch) {
+    scratch = start;
     const size_t stride = static_cast<size_t>(g.columns) + 1;
     double bits = 0;
     for (int j = 0; j <= g.rows; ++j)
@@ -288,28 +320,136 @@ double planeBits(const CodedGrid& g, const int64_t* e, const int64_t* sibling,
             const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
             const int x = contextOf(e, sibling, i, j, g.columns, k, stride);
             const int64_t r = e[k];
-            bits += decisionBits(models.zero[x], r != 0);
+            bits += decisionBits(scratch.zero[x], r != 0);
             if (r == 0) continue;
-            bits += decisionBits(models.sign[x], r < 0);
-            const uint64_t mag = r < 0 ? 0 - static_cast<uint64_t>(r) : static_cast<uint64_t>(r);
-            const int n = 63 - __builtin_clzll(mag);
-            for (int b = 0; b < n; ++b)
-                bits += decisionBits(models.length[x][std::min(b, kLengthModels - 1)], 1);
-            if (n < 63) bits += decisionBits(models.length[x][std::min(n, kLengthModels - 1)], 0);
-            if (n >= 1)  // the bit below the leading 1, then n - 1 direct bits
-                bits += decisionBits(models.top[n], static_cast<int>((mag >> (n - 1)) & 1)) + (n - 1);
+            bits += decisionBits(scratch.sign[x], r < 0);
+            bits += magnitudeBits(scratch.length[x], scratch.top, absolute(r));
         }
     return bits;
 }
 
-// The bytes of a plane's explicit weights in a CMSH weights block: differences from the
-// defaults.
-size_t explicitWeightBytes(const Weights& w, const Weights& d, bool derivative) {
-    ByteWriter out;
-    out.svarint(w.a - d.a);
-    if (!derivative) out.svarint(w.b - d.b);
-    out.svarint(w.s - d.s);
-    return out.str().size();
+// What a signed stream integer takes with models `m`, in bits (m learns it).
+double signedBits(IntegerModels& m, int64_t x) {
+    double bits = decisionBits(m.zero, x != 0);
+    if (x == 0) return bits;
+    bits += decisionBits(m.sign, x < 0);
+    return bits + magnitudeBits(m.length, m.top, absolute(x));
+}
+
+}  // namespace
+
+// All the models of a CMS2 stream (gmb_format.cpp, "CMS2"): fresh at the start of a section,
+// shared by its meshes.
+struct StreamModels {
+    IntegerModels fields[kStreamFields];
+    BitModel weighted[kNodeComponents];      // by position in the coding order
+    ResidualModels planes[kNodeComponents];  // by node-record component
+};
+
+namespace {
+
+// The weights of the planes of a CMS2 mesh (the defaults, or fitted weights where they save more
+// than they cost to state, estimated with the stream's models as they are when the mesh
+// begins) and the residuals they leave, plane by plane in node-record component order.
+void chooseWeights(const CodedGrid& g, const StreamModels& models,
+                   Weights (&weights)[kNodeComponents], uint64_t& mask,
+                   std::vector<int64_t>& residuals) {
+    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
+    const int F = g.components;
+    residuals.assign(static_cast<size_t>(F) * n, 0);
+    std::vector<int64_t> trial(n);
+    std::vector<Features> features(n);
+    auto scratch = std::make_unique<ResidualModels>();
+    IntegerModels deltas = models.fields[static_cast<int>(StreamField::WeightDelta)];
+    mask = 0;
+    for (int o = 0; o < F; ++o) {
+        const int c = kCodingOrder[o];
+        const int64_t* sibling =
+            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
+        const PlaneFeatures plane(g, c, sibling);
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                features[k] = plane.at(i, j, k);
+            }
+        const int64_t* q = &g.planes[static_cast<size_t>(c) * n];
+        int64_t* e = &residuals[static_cast<size_t>(c) * n];
+        const Weights defaults = defaultWeights(c);
+        weights[c] = defaults;
+        for (size_t k = 0; k < n; ++k) e[k] = q[k] - predictFrom(features[k], defaults);
+        Weights fit;
+        if (!fitWeights(features, q, isDerivative(c), kSibling[c] >= 0, fit) || fit == defaults)
+            continue;
+        for (size_t k = 0; k < n; ++k) trial[k] = q[k] - predictFrom(features[k], fit);
+        const double saved = planeBits(g, e, sibling, models.planes[c], *scratch) -
+                             planeBits(g, trial.data(), sibling, models.planes[c], *scratch);
+        BitModel yes = models.weighted[o], no = models.weighted[o];
+        IntegerModels stated = deltas;
+        double cost = decisionBits(yes, 1) - decisionBits(no, 0);
+        cost += signedBits(stated, int64_t(fit.a) - defaults.a);
+        if (!isDerivative(c)) cost += signedBits(stated, int64_t(fit.b) - defaults.b);
+        cost += signedBits(stated, int64_t(fit.s) - defaults.s);
+        if (saved > cost) {
+            weights[c] = fit;
+            mask |= uint64_t(1) << o;
+            deltas = stated;
+            std::copy(trial.begin(), trial.end(), e);
+        }
+    }
+}
+
+// The residuals of the planes, in coding order. `models`: one set per node-record component.
+void encodePlanes(RangeEncoder& enc, const CodedGrid& g, const std::vector<int64_t>& residuals,
+                  ResidualModels* models) {
+    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
+    for (int o = 0; o < g.components; ++o) {
+        const int c = kCodingOrder[o];
+        const int64_t* e = &residuals[static_cast<size_t>(c) * n];
+        const int64_t* sibling =
+            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                encodeResidual(enc, models[c], contextOf(e, sibling, i, j, g.columns, k, stride),
+                               e[k]);
+            }
+    }
+}
+
+// Fills g.planes from the residuals in `dec`, predicted with `weights`. `models`: one set per
+// node-record component that persists (CMS2), or null for fresh models in every plane (NODE
+// and CMSH).
+void decodePlanes(RangeDecoder& dec, ByteReader& r, CodedGrid& g,
+                  const Weights (&weights)[kNodeComponents], ResidualModels* models) {
+    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
+    const int F = g.components;
+    g.planes.assign(static_cast<size_t>(F) * n, 0);
+    // Residuals are kept for the plane being decoded and for the head of its group (the
+    // sibling of the others): each sibling is the first plane of a run in the coding order.
+    std::vector<int64_t> head(n), current(n);
+    std::unique_ptr<ResidualModels> fresh;
+    if (!models) fresh = std::make_unique<ResidualModels>();
+    for (int o = 0; o < F; ++o) {
+        const int c = kCodingOrder[o];
+        ResidualModels& m = models ? models[c] : *fresh;
+        if (!models) m = ResidualModels();
+        const int64_t* sibling = kSibling[c] >= 0 ? head.data() : nullptr;
+        const PlaneFeatures plane(g, c, sibling);
+        int64_t* q = &g.planes[static_cast<size_t>(c) * n];
+        int64_t* e = kSibling[c] >= 0 ? current.data() : head.data();
+        for (int j = 0; j <= g.rows; ++j)
+            for (int i = 0; i <= g.columns; ++i) {
+                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
+                const int128 residual =
+                    decodeResidual(dec, m, contextOf(e, sibling, i, j, g.columns, k, stride));
+                const int64_t p = predictFrom(plane.at(i, j, k), weights[c]);
+                const int128 value = int128(p) + residual;
+                if (value > kMaxQuantized || value < -kMaxQuantized)
+                    r.fail("quantised value out of range");
+                q[k] = static_cast<int64_t>(value);
+                e[k] = static_cast<int64_t>(residual);  // |e| <= |q| + |p| < 2^63
+            }
+    }
 }
 
 }  // namespace
@@ -337,74 +477,8 @@ std::string codedExponentProblem(const int (&e)[kFieldCount]) {
     return {};
 }
 
-std::string encodeCodedNodes(const CodedGrid& g) {
-    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
-    const int F = g.components;
-    std::vector<int64_t> residuals(static_cast<size_t>(F) * n), trial(n);
-    Weights weights[kNodeComponents];
-    uint64_t mask = 0;  // bit o: the o-th plane in coding order has explicit weights
-    std::vector<Features> features(n);
-    auto models = std::make_unique<ResidualModels>();
-    for (int o = 0; o < F; ++o) {
-        const int c = kCodingOrder[o];
-        const int64_t* sibling =
-            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
-        const PlaneFeatures plane(g, c, sibling);
-        for (int j = 0; j <= g.rows; ++j)
-            for (int i = 0; i <= g.columns; ++i) {
-                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
-                features[k] = plane.at(i, j, k);
-            }
-        const int64_t* q = &g.planes[static_cast<size_t>(c) * n];
-        int64_t* e = &residuals[static_cast<size_t>(c) * n];
-        // The defaults, or fitted weights where they save more than they cost to state.
-        const Weights defaults = defaultWeights(c);
-        weights[c] = defaults;
-        for (size_t k = 0; k < n; ++k) e[k] = q[k] - predictFrom(features[k], defaults);
-        Weights fit;
-        if (fitWeights(features, q, isDerivative(c), kSibling[c] >= 0, fit) && !(fit == defaults)) {
-            for (size_t k = 0; k < n; ++k) trial[k] = q[k] - predictFrom(features[k], fit);
-            const double saved = planeBits(g, e, sibling, *models) -
-                                 planeBits(g, trial.data(), sibling, *models);
-            if (saved > 8.0 * explicitWeightBytes(fit, defaults, isDerivative(c))) {
-                weights[c] = fit;
-                mask |= uint64_t(1) << o;
-                std::copy(trial.begin(), trial.end(), e);
-            }
-        }
-    }
-
-    ByteWriter out;
-    out.varint(mask);
-    for (int o = 0; o < F; ++o) {
-        if (!(mask >> o & 1)) continue;
-        const int c = kCodingOrder[o];
-        const Weights& w = weights[c];
-        const Weights d = defaultWeights(c);
-        out.svarint(w.a - d.a);
-        if (!isDerivative(c)) out.svarint(w.b - d.b);
-        out.svarint(w.s - d.s);
-    }
-    RangeEncoder enc;
-    for (int o = 0; o < F; ++o) {
-        const int c = kCodingOrder[o];
-        *models = ResidualModels();
-        const int64_t* e = &residuals[static_cast<size_t>(c) * n];
-        const int64_t* sibling =
-            kSibling[c] >= 0 ? &residuals[static_cast<size_t>(kSibling[c]) * n] : nullptr;
-        for (int j = 0; j <= g.rows; ++j)
-            for (int i = 0; i <= g.columns; ++i) {
-                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
-                encodeResidual(enc, *models, contextOf(e, sibling, i, j, g.columns, k, stride),
-                               e[k]);
-            }
-    }
-    out.bytes(enc.finish());
-    return std::move(out.str());
-}
 
 void decodeCodedNodes(ByteReader& r, CodedGrid& g, WeightLayout layout) {
-    const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
     const int F = g.components;
     Weights weights[kNodeComponents];
     uint64_t mask = (uint64_t(1) << F) - 1;  // NODE: every plane states its weights
@@ -430,32 +504,89 @@ void decodeCodedNodes(ByteReader& r, CodedGrid& g, WeightLayout layout) {
             *x = static_cast<int32_t>(v);
         }
     }
-    g.planes.assign(static_cast<size_t>(F) * n, 0);
-    // Residuals are kept for the plane being decoded and for the head of its group (the
-    // sibling of the others): each sibling is the first plane of a run in the coding order.
-    std::vector<int64_t> head(n), current(n);
     RangeDecoder dec(r);
-    auto models = std::make_unique<ResidualModels>();
-    for (int o = 0; o < F; ++o) {
+    decodePlanes(dec, r, g, weights, nullptr);
+}
+
+// ---- CMS2 streams.
+
+CompactStreamWriter::CompactStreamWriter()
+    : models_(std::make_unique<StreamModels>()), enc_(std::make_unique<RangeEncoder>()) {}
+CompactStreamWriter::~CompactStreamWriter() = default;
+
+void CompactStreamWriter::putUnsigned(StreamField f, uint64_t x) {
+    IntegerModels& m = models_->fields[static_cast<int>(f)];
+    enc_->encode(m.zero, x != 0);
+    if (x != 0) encodeMagnitude(*enc_, m.length, m.top, x);
+}
+
+void CompactStreamWriter::putSigned(StreamField f, int64_t x) {
+    IntegerModels& m = models_->fields[static_cast<int>(f)];
+    enc_->encode(m.zero, x != 0);
+    if (x == 0) return;
+    enc_->encode(m.sign, x < 0);
+    encodeMagnitude(*enc_, m.length, m.top, absolute(x));
+}
+
+void CompactStreamWriter::putNodes(const CodedGrid& g) {
+    Weights weights[kNodeComponents];
+    uint64_t mask = 0;
+    std::vector<int64_t> residuals;
+    chooseWeights(g, *models_, weights, mask, residuals);
+    for (int o = 0; o < g.components; ++o) {
+        const bool stated = mask >> o & 1;
+        enc_->encode(models_->weighted[o], stated);
+        if (!stated) continue;
         const int c = kCodingOrder[o];
-        *models = ResidualModels();
-        const int64_t* sibling = kSibling[c] >= 0 ? head.data() : nullptr;
-        const PlaneFeatures plane(g, c, sibling);
-        int64_t* q = &g.planes[static_cast<size_t>(c) * n];
-        int64_t* e = kSibling[c] >= 0 ? current.data() : head.data();
-        for (int j = 0; j <= g.rows; ++j)
-            for (int i = 0; i <= g.columns; ++i) {
-                const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
-                const int128 residual =
-                    decodeResidual(dec, *models, contextOf(e, sibling, i, j, g.columns, k, stride));
-                const int64_t p = predictFrom(plane.at(i, j, k), weights[c]);
-                const int128 value = int128(p) + residual;
-                if (value > kMaxQuantized || value < -kMaxQuantized)
-                    r.fail("quantised value out of range");
-                q[k] = static_cast<int64_t>(value);
-                e[k] = static_cast<int64_t>(residual);  // |e| <= |q| + |p| < 2^63
-            }
+        const Weights d = defaultWeights(c);
+        putSigned(StreamField::WeightDelta, int64_t(weights[c].a) - d.a);
+        if (!isDerivative(c)) putSigned(StreamField::WeightDelta, int64_t(weights[c].b) - d.b);
+        putSigned(StreamField::WeightDelta, int64_t(weights[c].s) - d.s);
     }
+    encodePlanes(*enc_, g, residuals, models_->planes);
+}
+
+std::string CompactStreamWriter::finish() { return enc_->finish(); }
+
+CompactStreamReader::CompactStreamReader(ByteReader& reader)
+    : r_(reader),
+      models_(std::make_unique<StreamModels>()),
+      dec_(std::make_unique<RangeDecoder>(reader)) {}
+CompactStreamReader::~CompactStreamReader() = default;
+
+uint64_t CompactStreamReader::getUnsigned(StreamField f) {
+    IntegerModels& m = models_->fields[static_cast<int>(f)];
+    if (!dec_->decode(m.zero)) return 0;
+    return decodeMagnitude(*dec_, m.length, m.top);
+}
+
+int64_t CompactStreamReader::getSigned(StreamField f) {
+    IntegerModels& m = models_->fields[static_cast<int>(f)];
+    if (!dec_->decode(m.zero)) return 0;
+    const bool negative = dec_->decode(m.sign);
+    const uint64_t mag = decodeMagnitude(*dec_, m.length, m.top);
+    if (mag > static_cast<uint64_t>(INT64_MAX)) r_.fail("coded integer out of range");
+    return negative ? -static_cast<int64_t>(mag) : static_cast<int64_t>(mag);
+}
+
+void CompactStreamReader::getNodes(CodedGrid& g) {
+    Weights weights[kNodeComponents];
+    for (int o = 0; o < g.components; ++o) {
+        const int c = kCodingOrder[o];
+        Weights& w = weights[c];
+        w = defaultWeights(c);
+        if (!dec_->decode(models_->weighted[o])) continue;
+        for (int32_t* x : {&w.a, &w.b, &w.s}) {
+            if (x == &w.b && isDerivative(c)) continue;
+            const int128 v = int128(getSigned(StreamField::WeightDelta)) + *x;
+            if (v > kMaxWeight || v < -kMaxWeight)
+                r_.fail("plane weight " + std::to_string(static_cast<long long>(
+                                              v > INT64_MAX ? INT64_MAX : (v < INT64_MIN ? INT64_MIN : v))) +
+                        " out of range");
+            *x = static_cast<int32_t>(v);
+        }
+    }
+    decodePlanes(*dec_, r_, g, weights, models_->planes);
 }
 
 }  // namespace gm::gmb

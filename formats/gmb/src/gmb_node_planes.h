@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,13 +49,72 @@ struct CodedGrid {
 // from the defaults (the nodes of a CMSH mesh record, version 1.2).
 enum class WeightLayout { Explicit, Masked };
 
-// The nodes of a CMSH mesh record: the weights mask, the weights that pay for themselves, then
-// the range-coded residuals. (The writer writes no NODE of encoding 2 any more.)
-std::string encodeCodedNodes(const CodedGrid& grid);
-
 // Fills grid.planes (everything else must be set) from the weights and the range-coded stream
 // in `reader`, leaving the reader just after the stream's last byte; every failure is a
-// gm::Error through the reader.
+// gm::Error through the reader. (The writer writes neither NODE of encoding 2 nor CMSH any
+// more: only CMS2.)
 void decodeCodedNodes(ByteReader& reader, CodedGrid& grid, WeightLayout layout);
+
+// ---- CMS2 (version 1.3): one range-coded stream holds every mesh of the section.
+
+// The kinds of integer coded in a CMS2 stream outside the node planes; each has its own models
+// (gmb_format.cpp, "CMS2").
+enum class StreamField {
+    Size,           // C, R
+    Count,          // slit count, corner tangent break count
+    Flags,          // mesh flags
+    KnotExponent,   // e_knot
+    KnotStart,      // q(u_0), q(v_0)
+    KnotStep,       // q(u_i) - q(u_{i-1}) - 1
+    WeightDelta,    // a stated plane weight minus its default
+    SlitIndex,      // row, i0, i1
+    SlitEnd,        // a slit-end tangent value
+    SlitBelow,      // a below copy's value minus the node above it
+    TangentIndex,   // i, j, a | b << 1 of a corner tangent break
+    TangentValue,   // a corner tangent break's value
+};
+constexpr int kStreamFields = 12;
+
+// All the adaptive models of a CMS2 stream: fresh at the start of a section, then shared by
+// all its meshes.
+struct StreamModels;
+class RangeEncoder;
+class RangeDecoder;
+
+class CompactStreamWriter {
+public:
+    CompactStreamWriter();
+    ~CompactStreamWriter();
+    void putUnsigned(StreamField f, uint64_t x);
+    void putSigned(StreamField f, int64_t x);
+    // Which planes state their weights and those weights (the defaults unless stating fitted
+    // ones pays), then the residuals of the planes.
+    void putNodes(const CodedGrid& grid);
+    // The stream's bytes; the writer is spent afterwards.
+    std::string finish();
+
+private:
+    std::unique_ptr<StreamModels> models_;
+    std::unique_ptr<RangeEncoder> enc_;
+};
+
+// Reads a CMS2 stream from `reader`, which fails (naming file, section and byte) where it ends
+// early; the stream's first 5 bytes are read on construction.
+class CompactStreamReader {
+public:
+    explicit CompactStreamReader(ByteReader& reader);
+    ~CompactStreamReader();
+    uint64_t getUnsigned(StreamField f);
+    // Fails for a magnitude of 2^63 or more.
+    int64_t getSigned(StreamField f);
+    // Fills grid.planes (everything else must be set; the caller has checked the counts
+    // against the bytes that remain).
+    void getNodes(CodedGrid& grid);
+
+private:
+    ByteReader& r_;
+    std::unique_ptr<StreamModels> models_;
+    std::unique_ptr<RangeDecoder> dec_;
+};
 
 }  // namespace gm::gmb

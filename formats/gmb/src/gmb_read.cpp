@@ -23,17 +23,21 @@ constexpr uint64_t kMaxHeaderPayload = 4096;
 // The smallest mesh a file can hold: a CMSH mesh record of 1x1 patches (six one-byte header
 // fields, four knots, the weights mask and a 5-byte range-coded stream).
 constexpr uint64_t kMinMeshRecord = 16;
-// A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp).
 // What a quantised node value counts against ReadLimits::maxFileBytes once decoded: the
 // binary64 it becomes (gmb_format.cpp, "Reading limits").
 constexpr uint64_t kDecodedBytesPerValue = 8;
+// A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp): a reader
+// refuses V values where fewer than V / 16384 bytes remain.
 constexpr uint64_t kValuesPerStreamByte = 16384;
+// A mesh of a CMS2 stream makes at least 57 binary decisions (gmb_format.cpp): M meshes need
+// more than M / 206 bytes, and a reader refuses M where fewer than M / 256 remain.
+constexpr uint64_t kStreamMeshesPerByte = 256;
 // The smallest float64 or 1.1 mesh: MESH, KNOT and NODE sections.
 constexpr uint64_t kMinMeshSections = 3 * kSectionOverhead;
 
 bool isKnownTag(const std::string& t) {
     return t == "DOCU" || t == "MESH" || t == "KNOT" || t == "NODE" || t == "SLIT" ||
-           t == "TANG" || t == "CMSH" || t == "END ";
+           t == "TANG" || t == "CMSH" || t == "CMS2" || t == "END ";
 }
 
 // Tags may be any bytes in a hostile file; print them readably.
@@ -96,8 +100,9 @@ private:
         throw Error(what, file_, "byte " + std::to_string(at));
     }
     void readFileHeader();
-    // `orElse`: a second tag that may stand there instead.
-    Section next(const std::string& expected, const std::string& orElse = std::string());
+    // `orElse`, `orElse2`: other tags that may stand there instead.
+    Section next(const std::string& expected, const std::string& orElse = std::string(),
+                 const std::string& orElse2 = std::string());
     void open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decodedAtLeast = 0);
     void finish(const Payload& p, const Section& s) const;
 
@@ -107,6 +112,11 @@ private:
     GradientMesh readSections(const MeshHeader& h);
     void readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
     void readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Document& doc);
+    void readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
+    void readStreamMesh(CompactStreamReader& in, ByteReader& r, const int (&shared)[kFieldCount],
+                        Document& doc);
+    // Adds `bytes` to what the document decodes to, refusing it beyond limits.maxFileBytes.
+    void charge(ByteReader& r, uint64_t bytes);
     void addMesh(GradientMesh m, const MeshHeader& h, Document& doc);
     void readKnots(ByteReader& r, const MeshHeader& h, GradientMesh& m);
     void readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m);
@@ -169,8 +179,11 @@ void Decoder::readFileHeader() {
 
 // The next section the document structure expects, skipping optional sections this reader does
 // not know. The section's CRC has been checked; pos_ is past it.
-Section Decoder::next(const std::string& expected, const std::string& orElse) {
-    const std::string want = orElse.empty() ? expected : expected + " or " + orElse;
+Section Decoder::next(const std::string& expected, const std::string& orElse,
+                      const std::string& orElse2) {
+    const std::string want = orElse.empty()    ? expected
+                             : orElse2.empty() ? expected + " or " + orElse
+                                               : expected + ", " + orElse + " or " + orElse2;
     for (;;) {
         const uint64_t left = bytes_.size() - pos_;
         if (left == 0) fail("truncated: the file ends before section " + want, pos_);
@@ -201,7 +214,8 @@ Section Decoder::next(const std::string& expected, const std::string& orElse) {
             fail("CRC mismatch in section " + name + " (the file is damaged)", s.start);
         pos_ += covered + kCrcSize;
         if (isKnownTag(s.tag)) {
-            if (s.tag != expected && (orElse.empty() || s.tag != orElse))
+            if (s.tag != expected && (orElse.empty() || s.tag != orElse) &&
+                (orElse2.empty() || s.tag != orElse2))
                 fail("section " + name + " out of place: expected " + want, s.start);
             return s;
         }
@@ -627,6 +641,175 @@ void Decoder::readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Do
     addMesh(std::move(m), h, doc);
 }
 
+void Decoder::charge(ByteReader& r, uint64_t bytes) {
+    decodedBytes_ = satAdd(decodedBytes_, bytes);
+    if (decodedBytes_ > limits_.maxFileBytes)
+        r.fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
+               " bytes");
+}
+
+// A CMS2 section: a run of meshes in encoding 2 in one range-coded stream (version 1.3).
+void Decoder::readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
+    if (minor_ < 3)
+        fail("section CMS2 needs format version 1.3 (the file says 1." + std::to_string(minor_) + ")",
+             s.start);
+    if (s.codec != static_cast<uint8_t>(Codec::Stored))
+        fail("section CMS2 must be stored (codec 0), not codec " + std::to_string(s.codec), s.start);
+    meshName_.clear();  // the section holds several meshes: each names its own
+    Payload p;
+    open(s, s.stored, p);
+    ByteReader& r = p.reader;
+    const uint64_t count = r.varint();
+    if (count == 0) r.fail("a CMS2 section holds no mesh");
+    if (count > meshesLeft)
+        r.fail("CMS2 holds " + std::to_string(count) + " meshes, but the document has only " +
+               std::to_string(meshesLeft) + " more");
+    int shared[kFieldCount] = {};
+    for (int f = kPos; f < kFieldCount; ++f) shared[f] = readExponent(r);
+    r.need(count / kStreamMeshesPerByte, std::to_string(count) + " range-coded meshes");
+    CompactStreamReader stream(r);
+    for (uint64_t k = 0; k < count; ++k) {
+        meshName_ = "mesh " + std::to_string(doc.meshes.size());
+        r.rename("CMS2 (" + meshName_ + ")");
+        readStreamMesh(stream, r, shared, doc);
+    }
+    r.rename("CMS2");
+    // The stream is exactly the bytes its decoder read: nothing may follow.
+    finish(p, s);
+}
+
+void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
+                             const int (&shared)[kFieldCount], Document& doc) {
+    MeshHeader h;
+    h.encoding = Encoding::Coded;
+    h.record = true;
+    h.columns = in.getUnsigned(StreamField::Size);
+    h.rows = in.getUnsigned(StreamField::Size);
+    h.slits = in.getUnsigned(StreamField::Count);
+    h.tangents = in.getUnsigned(StreamField::Count);
+    const std::string problem = countProblem(h);
+    if (!problem.empty()) r.fail(problem);
+    const uint64_t flags = in.getUnsigned(StreamField::Flags);
+    if (flags & ~uint64_t(kMeshColorByRule)) r.fail("unknown mesh flags " + std::to_string(flags));
+    h.byRule = flags & kMeshColorByRule;
+    const int64_t knot = in.getSigned(StreamField::KnotExponent);
+    if (knot < -kMaxExponent || knot > kMaxExponent)
+        r.fail("quantisation exponent " + std::to_string(knot) + " out of range");
+    std::copy(std::begin(shared), std::end(shared), h.exponent);
+    h.exponent[kKnot] = static_cast<int>(knot);
+    const std::string exponents = codedExponentProblem(h.exponent);
+    if (!exponents.empty()) r.fail(exponents);
+    // What the mesh decodes to counts as the binary64 values it becomes, charged before any of
+    // it is allocated: the node planes, and the fixed parts of slits and tangent breaks (their
+    // below copies once their columns are known).
+    const uint64_t F = static_cast<uint64_t>(h.components());
+    const uint64_t endValues = h.byRule ? 2 : 5;
+    uint64_t values = satMul(F, h.nodes());
+    values = satAdd(values, satMul(h.slits, 3 + 2 * endValues));
+    values = satAdd(values, satMul(h.tangents, 3 + endValues));
+    charge(r, satMul(kDecodedBytesPerValue, values));
+
+    GradientMesh m;
+    // Every value takes at least one decision: a stream cannot be shorter than its values allow
+    // (gmb_format.cpp, "Reading limits"), checked before each allocation.
+    r.need((h.columns + h.rows + 2) / kValuesPerStreamByte, "the knots");
+    for (std::vector<double>* k : {&m.u, &m.v}) {
+        k->resize(static_cast<size_t>((k == &m.u ? h.columns : h.rows) + 1));
+        std::vector<int64_t>& knotQ = k == &m.u ? grid_.knotU : grid_.knotV;
+        knotQ.resize(k->size());
+        int64_t q = in.getSigned(StreamField::KnotStart);
+        (*k)[0] = quantized(r, q, h.exponent[kKnot]);
+        knotQ[0] = q;
+        for (size_t i = 1; i < k->size(); ++i) {
+            const uint64_t step = in.getUnsigned(StreamField::KnotStep);
+            if (step >= uint64_t(2) * kMaxQuantized) r.fail("knot interval out of range");
+            q += static_cast<int64_t>(step + 1);  // both within 2^54: no overflow
+            (*k)[i] = quantized(r, q, h.exponent[kKnot]);
+            knotQ[i] = q;
+        }
+    }
+    grid_.spanU = localSpans(grid_.knotU);
+    grid_.spanV = localSpans(grid_.knotV);
+
+    const uint64_t n = h.nodes();
+    const size_t C1 = static_cast<size_t>(h.columns + 1);
+    r.need(satMul(F, n) / kValuesPerStreamByte, "the range-coded nodes");
+    grid_.columns = static_cast<int>(h.columns);
+    grid_.rows = static_cast<int>(h.rows);
+    grid_.components = static_cast<int>(F);
+    std::copy(std::begin(h.exponent), std::end(h.exponent), grid_.exponent);
+    in.getNodes(grid_);
+    m.nodes.resize(static_cast<size_t>(n));
+    for (size_t c = 0; c < F; ++c) {
+        const int64_t* q = &grid_.planes[c * static_cast<size_t>(n)];
+        for (size_t k = 0; k < n; ++k)
+            nodeComponent(m.nodes[k], static_cast<int>(c)) =
+                component(r, h, static_cast<int>(c), q[k], k % C1, k / C1);
+    }
+
+    r.need(satMul(h.slits, 3 + 2 * endValues) / kValuesPerStreamByte, "the slits");
+    m.slits.resize(static_cast<size_t>(h.slits));
+    for (size_t k = 0; k < m.slits.size(); ++k) {
+        Slit& s = m.slits[k];
+        const uint64_t row = in.getUnsigned(StreamField::SlitIndex);
+        const uint64_t i0 = in.getUnsigned(StreamField::SlitIndex);
+        const uint64_t i1 = in.getUnsigned(StreamField::SlitIndex);
+        if (row == 0 || row >= h.rows || i0 == 0 || i0 >= i1 || i1 >= h.columns)
+            r.fail("slit " + std::to_string(k) + " (row " + std::to_string(row) + ", columns " +
+                   std::to_string(i0) + ".." + std::to_string(i1) + ") is not inside the " +
+                   std::to_string(h.columns) + "x" + std::to_string(h.rows) + " grid");
+        s.row = static_cast<int>(row);
+        s.i0 = static_cast<int>(i0);
+        s.i1 = static_cast<int>(i1);
+        for (SlitEnd* end : {&s.left, &s.right}) {
+            const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
+            for (double* x : {&end->posU.x, &end->posU.y})
+                *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::SlitEnd), column);
+            if (!h.byRule)
+                for (int c = 0; c < 3; ++c)
+                    end->colU[c] = derivativeU(r, h, kColU, in.getSigned(StreamField::SlitEnd), column);
+        }
+        const uint64_t below = i1 - i0 - 1;
+        charge(r, satMul(kDecodedBytesPerValue, satMul(below, F)));
+        r.need(satMul(below, F) / kValuesPerStreamByte, "the split nodes of slit " + std::to_string(k));
+        s.below.resize(static_cast<size_t>(below));
+        for (size_t b = 0; b < s.below.size(); ++b) {
+            const size_t above = static_cast<size_t>(row * (h.columns + 1) + i0 + 1 + b);
+            for (size_t c = 0; c < F; ++c) {
+                // Residuals are arbitrary 64-bit numbers: add in unsigned (wrapping) arithmetic
+                // and let the range check reject the result.
+                const int64_t q = static_cast<int64_t>(
+                    static_cast<uint64_t>(grid_.planes[c * static_cast<size_t>(n) + above]) +
+                    static_cast<uint64_t>(in.getSigned(StreamField::SlitBelow)));
+                nodeComponent(s.below[b], static_cast<int>(c)) =
+                    component(r, h, static_cast<int>(c), q, above % C1, above / C1);
+            }
+        }
+    }
+
+    r.need(satMul(h.tangents, 3 + endValues) / kValuesPerStreamByte, "the tangent breaks");
+    m.tangents.resize(static_cast<size_t>(h.tangents));
+    for (size_t k = 0; k < m.tangents.size(); ++k) {
+        CornerTangent& t = m.tangents[k];
+        const uint64_t i = in.getUnsigned(StreamField::TangentIndex);
+        const uint64_t j = in.getUnsigned(StreamField::TangentIndex);
+        const uint64_t corner = in.getUnsigned(StreamField::TangentIndex);
+        if (corner > 3) r.fail("tangent break " + std::to_string(k) + " has a bad corner code");
+        if (i >= h.columns || j >= h.rows)
+            r.fail("tangent break " + std::to_string(k) + " names a corner outside the grid");
+        t.i = static_cast<int>(i);
+        t.j = static_cast<int>(j);
+        t.a = static_cast<int>(corner & 1);
+        t.b = static_cast<int>(corner >> 1);
+        const size_t column = static_cast<size_t>(i) + static_cast<size_t>(t.a);
+        for (double* x : {&t.posU.x, &t.posU.y})
+            *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::TangentValue), column);
+        for (int c = 0; c < 3 && !h.byRule; ++c)
+            t.colU[c] = derivativeU(r, h, kColU, in.getSigned(StreamField::TangentValue), column);
+    }
+    addMesh(std::move(m), h, doc);
+}
+
 Document Decoder::run() {
     readFileHeader();
     Document doc;
@@ -652,7 +835,11 @@ Document Decoder::run() {
                      std::to_string(limits_.maxMeshes),
                  s.start);
         const uint64_t left = bytes_.size() - pos_;
-        if (satMul(meshCount, minor_ >= 2 ? kMinMeshRecord : kMinMeshSections) > left)
+        // A mesh of a CMS2 stream (1.3) may take less than a byte.
+        const uint64_t least = minor_ >= 3   ? meshCount / kStreamMeshesPerByte
+                               : minor_ == 2 ? satMul(meshCount, kMinMeshRecord)
+                                             : satMul(meshCount, kMinMeshSections);
+        if (least > left)
             fail("truncated: the document declares " + std::to_string(meshCount) + " meshes but only " +
                      std::to_string(left) + " bytes remain",
                  s.start);
@@ -662,9 +849,13 @@ Document Decoder::run() {
 
     while (doc.meshes.size() < meshCount) {
         meshName_ = "mesh " + std::to_string(doc.meshes.size());
-        const Section s = next("MESH", "CMSH");
+        const Section s = next("MESH", "CMSH", "CMS2");
         if (s.tag == "CMSH") {
             readCompactMeshes(s, meshCount - doc.meshes.size(), doc);
+            continue;
+        }
+        if (s.tag == "CMS2") {
+            readStreamMeshes(s, meshCount - doc.meshes.size(), doc);
             continue;
         }
         MeshHeader h;

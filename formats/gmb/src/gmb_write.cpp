@@ -52,18 +52,37 @@ private:
     ByteWriter w_;
 };
 
-// One mesh as float64 sections (MESH KNOT NODE [SLIT] [TANG]), or as a record of a CMSH section
-// (`coded`: encoding 2, version 1.2), which holds the same knot, node, slit and tangent data.
+// A mesh quantised for encoding 2, as a CMS2 stream codes it (version 1.3): everything but the
+// node planes as the integers the stream holds, in their order.
+struct CodedMesh {
+    bool byRule = false;
+    CodedGrid grid;  // knots, spans, exponents (all seven) and node planes
+    struct SlitInts {
+        uint64_t row = 0, i0 = 0, i1 = 0;
+        std::vector<int64_t> ends;   // left end, then right end: posU.x posU.y [colU.rgb]
+        std::vector<int64_t> below;  // below copies: record by record, q(below) - q(above)
+    };
+    struct TangentInts {
+        uint64_t i = 0, j = 0, corner = 0;  // corner: a | b << 1
+        std::vector<int64_t> values;        // posU.x posU.y [colU.rgb]
+    };
+    std::vector<SlitInts> slits;
+    std::vector<TangentInts> tangents;
+};
+
+// One mesh as float64 sections (MESH KNOT NODE [SLIT] [TANG]), or (`coded`) quantised for a
+// CMS2 section.
 struct MeshPayloads {
     std::string mesh, knot, node, slit, tang;
     bool coded = false;
-    int exponent[kFieldCount] = {};
-    std::string record;  // when coded: the CMSH mesh record
+    CodedMesh quantised;  // when coded
 };
 
-// The exponents a CMSH section states once for all its meshes (all but the knots').
+// The exponents a CMS2 section states once for all its meshes (all but the knots').
 bool sameSharedExponents(const MeshPayloads& a, const MeshPayloads& b) {
-    return std::equal(a.exponent + kPos, a.exponent + kFieldCount, b.exponent + kPos);
+    const int* x = a.quantised.grid.exponent;
+    const int* y = b.quantised.grid.exponent;
+    return std::equal(x + kPos, x + kFieldCount, y + kPos);
 }
 
 // The MESH payload of a float64 mesh (no flags, zero exponents).
@@ -212,9 +231,9 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2, as a CMSH mesh record. False when some value does not fit the quantised grid
-// (enormous coordinates, degenerate knot spacing); the caller then writes the mesh as float64,
-// always within bounds.
+// Encoding 2, quantised for a CMS2 section. False when some value does not fit the quantised
+// grid (enormous coordinates, degenerate knot spacing); the caller then writes the mesh as
+// float64, always within bounds.
 bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
     int e[kFieldCount];
     chooseExponents(m, shift, e);
@@ -224,24 +243,20 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
     const int F = byRule ? kNodeComponentsByRule : kNodeComponents;
     const int C = m.columns(), R = m.rows();
 
-    CodedGrid g;
+    CodedMesh out;
+    out.byRule = byRule;
+    CodedGrid& g = out.grid;
     g.columns = C;
     g.rows = R;
     g.components = F;
     std::copy(std::begin(e), std::end(e), g.exponent);
-    ByteWriter knot;
     for (const std::vector<double>* k : {&m.u, &m.v}) {
-        std::vector<int64_t>& out = k == &m.u ? g.knotU : g.knotV;
+        std::vector<int64_t>& knots = k == &m.u ? g.knotU : g.knotV;
         for (size_t i = 0; i < k->size(); ++i) {
             int64_t q;
             if (!quantize((*k)[i], e[kKnot], q)) return false;
-            if (i == 0) {
-                knot.svarint(q);
-            } else {
-                if (q <= out.back()) return false;
-                knot.varint(static_cast<uint64_t>(q - out.back()));
-            }
-            out.push_back(q);
+            if (i > 0 && q <= knots.back()) return false;
+            knots.push_back(q);
         }
     }
     g.spanU = localSpans(g.knotU);
@@ -257,21 +272,21 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
                 if (!quant.component(m.nodes[k], c, i, j, g.planes[c * n + k])) return false;
         }
 
-    ByteWriter slit;
     for (const Slit& s : m.slits) {
-        slit.varint(static_cast<uint64_t>(s.row));
-        slit.varint(static_cast<uint64_t>(s.i0));
-        slit.varint(static_cast<uint64_t>(s.i1));
+        CodedMesh::SlitInts slit;
+        slit.row = static_cast<uint64_t>(s.row);
+        slit.i0 = static_cast<uint64_t>(s.i0);
+        slit.i1 = static_cast<uint64_t>(s.i1);
         for (const SlitEnd* end : {&s.left, &s.right}) {
             const int column = end == &s.left ? s.i0 : s.i1;
             int64_t q;
             for (double x : {end->posU.x, end->posU.y}) {
                 if (!quant.derivativeU(x, kPosU, column, q)) return false;
-                slit.svarint(q);
+                slit.ends.push_back(q);
             }
             for (int c = 0; c < 3 && !byRule; ++c) {
                 if (!quant.derivativeU(end->colU[c], kColU, column, q)) return false;
-                slit.svarint(q);
+                slit.ends.push_back(q);
             }
         }
         for (size_t b = 0; b < s.below.size(); ++b) {
@@ -280,41 +295,57 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
             for (int c = 0; c < F; ++c) {
                 int64_t q;
                 if (!quant.component(s.below[b], c, column, s.row, q)) return false;
-                slit.svarint(q - g.planes[c * n + above]);
+                slit.below.push_back(q - g.planes[c * n + above]);
             }
         }
+        out.slits.push_back(std::move(slit));
     }
 
-    ByteWriter tang;
     for (const CornerTangent& t : m.tangents) {
-        tang.varint(static_cast<uint64_t>(t.i));
-        tang.varint(static_cast<uint64_t>(t.j));
-        tang.u8(static_cast<uint8_t>(t.a | (t.b << 1)));
+        CodedMesh::TangentInts tangent;
+        tangent.i = static_cast<uint64_t>(t.i);
+        tangent.j = static_cast<uint64_t>(t.j);
+        tangent.corner = static_cast<uint64_t>(t.a | (t.b << 1));
         int64_t q;
         for (double x : {t.posU.x, t.posU.y}) {
             if (!quant.derivativeU(x, kPosU, t.i + t.a, q)) return false;
-            tang.svarint(q);
+            tangent.values.push_back(q);
         }
         for (int c = 0; c < 3 && !byRule; ++c) {
             if (!quant.derivativeU(t.colU[c], kColU, t.i + t.a, q)) return false;
-            tang.svarint(q);
+            tangent.values.push_back(q);
         }
+        out.tangents.push_back(std::move(tangent));
     }
     p.coded = true;
-    std::copy(std::begin(e), std::end(e), p.exponent);
-    ByteWriter record;
-    record.varint(static_cast<uint64_t>(C));
-    record.varint(static_cast<uint64_t>(R));
-    record.varint(m.slits.size());
-    record.varint(m.tangents.size());
-    record.u8(byRule ? kMeshColorByRule : 0);
-    record.svarint(e[kKnot]);
-    record.bytes(knot.str());
-    record.bytes(encodeCodedNodes(g));
-    record.bytes(slit.str());
-    record.bytes(tang.str());
-    p.record = std::move(record.str());
+    p.quantised = std::move(out);
     return true;
+}
+
+// One mesh of a CMS2 section, into the section's stream (gmb_format.cpp, "CMS2").
+void writeStreamMesh(CompactStreamWriter& w, const CodedMesh& m) {
+    const CodedGrid& g = m.grid;
+    w.putUnsigned(StreamField::Size, static_cast<uint64_t>(g.columns));
+    w.putUnsigned(StreamField::Size, static_cast<uint64_t>(g.rows));
+    w.putUnsigned(StreamField::Count, m.slits.size());
+    w.putUnsigned(StreamField::Count, m.tangents.size());
+    w.putUnsigned(StreamField::Flags, m.byRule ? kMeshColorByRule : 0);
+    w.putSigned(StreamField::KnotExponent, g.exponent[kKnot]);
+    for (const std::vector<int64_t>* knots : {&g.knotU, &g.knotV}) {
+        w.putSigned(StreamField::KnotStart, knots->front());
+        for (size_t i = 1; i < knots->size(); ++i)
+            w.putUnsigned(StreamField::KnotStep, static_cast<uint64_t>((*knots)[i] - (*knots)[i - 1] - 1));
+    }
+    w.putNodes(g);
+    for (const CodedMesh::SlitInts& s : m.slits) {
+        for (uint64_t x : {s.row, s.i0, s.i1}) w.putUnsigned(StreamField::SlitIndex, x);
+        for (int64_t x : s.ends) w.putSigned(StreamField::SlitEnd, x);
+        for (int64_t x : s.below) w.putSigned(StreamField::SlitBelow, x);
+    }
+    for (const CodedMesh::TangentInts& t : m.tangents) {
+        for (uint64_t x : {t.i, t.j, t.corner}) w.putUnsigned(StreamField::TangentIndex, x);
+        for (int64_t x : t.values) w.putSigned(StreamField::TangentValue, x);
+    }
 }
 
 }  // namespace
@@ -350,7 +381,7 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
 
     SectionSink out;
     // The lowest version that holds the file: lossless files stay readable by 1.0 readers, and
-    // only a file with a CMSH section needs 1.2.
+    // only a file with a CMS2 section needs 1.3.
     out.header(coded ? kMinor : 0);
     ByteWriter docu;
     docu.u32(static_cast<uint32_t>(doc.width));
@@ -362,16 +393,18 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
         const GradientMesh& m = doc.meshes[k];
         const MeshPayloads& p = meshes[k];
         if (p.coded) {
-            // One CMSH for the run of coded meshes that share their exponents; stored, as
-            // range-coded data does not compress.
+            // One CMS2 for the run of coded meshes that share their exponents: their stream's
+            // models learn from mesh to mesh. Stored, as range-coded data does not compress.
             size_t end = k + 1;
             while (end < meshes.size() && meshes[end].coded && sameSharedExponents(p, meshes[end]))
                 ++end;
-            ByteWriter cmsh;
-            cmsh.varint(end - k);
-            for (int f = kPos; f < kFieldCount; ++f) cmsh.svarint(p.exponent[f]);
-            for (; k < end; ++k) cmsh.bytes(meshes[k].record);
-            out.add("CMSH", cmsh.str(), false);
+            ByteWriter cms2;
+            cms2.varint(end - k);
+            for (int f = kPos; f < kFieldCount; ++f) cms2.svarint(p.quantised.grid.exponent[f]);
+            CompactStreamWriter stream;
+            for (; k < end; ++k) writeStreamMesh(stream, meshes[k].quantised);
+            cms2.bytes(stream.finish());
+            out.add("CMS2", cms2.str(), false);
             continue;
         }
         out.add("MESH", p.mesh, false);

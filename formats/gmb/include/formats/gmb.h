@@ -11,10 +11,11 @@ namespace gm {
 std::unique_ptr<MeshFormat> makeGmbFormat();
 
 // In-memory encode/decode (the format object reads/writes files through these). The layout,
-// version 1.2, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader also reads
-// every 1.0 and 1.1 file, and a lossless file is still a 1.0 file.
+// version 1.3, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader also reads
+// every 1.0, 1.1 and 1.2 file (CMSH sections included), and a lossless file is still a 1.0 file.
 // `compact`: quantised, predicted and range-coded (encoding 2), within the bounds below, in
-// CMSH sections (version 1.2: a few bytes of headers per mesh); otherwise lossless: every
+// CMS2 sections (version 1.3: each run of meshes is one range-coded stream whose models learn
+// from mesh to mesh, so many small meshes cost little more than one); otherwise lossless: every
 // double stored bit for bit. Throws gm::Error (without a file
 // name) for a document that fails validateDocument.
 // compactLevel: see GmbCompactShifts (0 unless compact).
@@ -49,7 +50,8 @@ struct GmbCompactBounds {
 };
 // Coarser compact files, for size: at level L (0 to kGmbMaxCompactLevel; 0 is the default and
 // the bounds above) each quantity's grid, and with it its bound, is 2^k times level 0's, with k
-// from gmbCompactShifts(L). Every file states its grids, so any 1.1 reader reads every level.
+// from gmbCompactShifts(L). Every file states its grids, so any reader of its version reads
+// every level.
 // fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and ~15 %
 // fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 74 %; 4 and 5
 // suit small, coarse meshes, where they cost little (fruits at 10 patches a region: -0.2 and
