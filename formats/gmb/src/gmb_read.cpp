@@ -88,6 +88,29 @@ int readExponent(ByteReader& r) {
     return static_cast<int>(e);
 }
 
+// Slit k's row and end columns, which must lie inside the grid.
+void placeSlit(ByteReader& r, const MeshHeader& h, size_t k, uint64_t row, uint64_t i0,
+               uint64_t i1, Slit& s) {
+    if (row == 0 || row >= h.rows || i0 == 0 || i0 >= i1 || i1 >= h.columns)
+        r.fail("slit " + std::to_string(k) + " (row " + std::to_string(row) + ", columns " +
+               std::to_string(i0) + ".." + std::to_string(i1) + ") is not inside the " +
+               std::to_string(h.columns) + "x" + std::to_string(h.rows) + " grid");
+    s.row = static_cast<int>(row);
+    s.i0 = static_cast<int>(i0);
+    s.i1 = static_cast<int>(i1);
+}
+
+// Tangent break k's patch (i, j) and corner (a, b), which must lie inside the grid.
+void placeBreak(ByteReader& r, const MeshHeader& h, size_t k, uint64_t i, uint64_t j, uint64_t a,
+                uint64_t b, CornerTangent& t) {
+    if (i >= h.columns || j >= h.rows || a > 1 || b > 1)
+        r.fail("tangent break " + std::to_string(k) + " names a corner outside the grid");
+    t.i = static_cast<int>(i);
+    t.j = static_cast<int>(j);
+    t.a = static_cast<int>(a);
+    t.b = static_cast<int>(b);
+}
+
 class Decoder {
 public:
     Decoder(const std::string& bytes, const ReadLimits& limits, const std::string& file)
@@ -460,13 +483,7 @@ void Decoder::readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
         const uint64_t row = f64 ? r.u32() : r.varint();
         const uint64_t i0 = f64 ? r.u32() : r.varint();
         const uint64_t i1 = f64 ? r.u32() : r.varint();
-        if (row == 0 || row >= h.rows || i0 == 0 || i0 >= i1 || i1 >= h.columns)
-            r.fail("slit " + std::to_string(k) + " (row " + std::to_string(row) + ", columns " +
-                   std::to_string(i0) + ".." + std::to_string(i1) + ") is not inside the " +
-                   std::to_string(h.columns) + "x" + std::to_string(h.rows) + " grid");
-        s.row = static_cast<int>(row);
-        s.i0 = static_cast<int>(i0);
-        s.i1 = static_cast<int>(i1);
+        placeSlit(r, h, k, row, i0, i1, s);
         for (SlitEnd* end : {&s.left, &s.right}) {
             const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
             for (double* x : {&end->posU.x, &end->posU.y})
@@ -502,12 +519,7 @@ void Decoder::readTangents(ByteReader& r, const MeshHeader& h, GradientMesh& m) 
             a = ab & 1;
             b = ab >> 1;
         }
-        if (i >= h.columns || j >= h.rows || a > 1 || b > 1)
-            r.fail("tangent break " + std::to_string(k) + " names a corner outside the grid");
-        t.i = static_cast<int>(i);
-        t.j = static_cast<int>(j);
-        t.a = static_cast<int>(a);
-        t.b = static_cast<int>(b);
+        placeBreak(r, h, k, i, j, a, b, t);
         const size_t column = static_cast<size_t>(i + a);
         for (double* x : {&t.posU.x, &t.posU.y})
             *x = f64 ? r.f64() : derivativeU(r, h, kPosU, r.svarint(), column);
@@ -754,13 +766,7 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
         const uint64_t row = in.getUnsigned(StreamField::SlitIndex);
         const uint64_t i0 = in.getUnsigned(StreamField::SlitIndex);
         const uint64_t i1 = in.getUnsigned(StreamField::SlitIndex);
-        if (row == 0 || row >= h.rows || i0 == 0 || i0 >= i1 || i1 >= h.columns)
-            r.fail("slit " + std::to_string(k) + " (row " + std::to_string(row) + ", columns " +
-                   std::to_string(i0) + ".." + std::to_string(i1) + ") is not inside the " +
-                   std::to_string(h.columns) + "x" + std::to_string(h.rows) + " grid");
-        s.row = static_cast<int>(row);
-        s.i0 = static_cast<int>(i0);
-        s.i1 = static_cast<int>(i1);
+        placeSlit(r, h, k, row, i0, i1, s);
         for (SlitEnd* end : {&s.left, &s.right}) {
             const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
             for (double* x : {&end->posU.x, &end->posU.y})
@@ -795,12 +801,7 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
         const uint64_t j = in.getUnsigned(StreamField::TangentIndex);
         const uint64_t corner = in.getUnsigned(StreamField::TangentIndex);
         if (corner > 3) r.fail("tangent break " + std::to_string(k) + " has a bad corner code");
-        if (i >= h.columns || j >= h.rows)
-            r.fail("tangent break " + std::to_string(k) + " names a corner outside the grid");
-        t.i = static_cast<int>(i);
-        t.j = static_cast<int>(j);
-        t.a = static_cast<int>(corner & 1);
-        t.b = static_cast<int>(corner >> 1);
+        placeBreak(r, h, k, i, j, corner & 1, corner >> 1, t);
         const size_t column = static_cast<size_t>(i) + static_cast<size_t>(t.a);
         for (double* x : {&t.posU.x, &t.posU.y})
             *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::TangentValue), column);
