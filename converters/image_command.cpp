@@ -37,7 +37,9 @@ const char* kImageConvertHelp =
     "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
     "  --max-patches N         patch budget per region (default 400; with --segment 8000,\n"
     "                          and at most one patch per 8 pixels of the region)\n"
-    "  --colors MODE           fit (default: least squares over the pixels) or sampled\n"
+    "  --colors MODE           fit (default: least squares over the pixels), rule (least\n"
+    "                          squares with slopes by the SVG bicubic rule: smaller compact\n"
+    "                          files, exact editable SVG) or sampled\n"
     "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
     "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
     "  --min-area N            drop object components under N pixels (default 64)\n"
@@ -214,9 +216,11 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
             co.colors = ColorMode::Fit;
         else if (it->second == "sampled")
             co.colors = ColorMode::Sampled;
+        else if (it->second == "rule")
+            co.colors = ColorMode::FitRule;
         else
-            throw std::invalid_argument("--colors expects fit or sampled, got '" + it->second +
-                                        "'");
+            throw std::invalid_argument("--colors expects fit, rule or sampled, got '" +
+                                        it->second + "'");
     }
     SegmentConvertOptions so;
     so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
@@ -328,7 +332,9 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     s << "{\n  \"input\": " << jsonString(in) << ",\n  \"output\": " << jsonString(out)
       << ",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
       << ",\n  \"mask_source\": " << jsonString(report.maskSource)
-      << ",\n  \"colors\": " << jsonString(co.colors == ColorMode::Fit ? "fit" : "sampled")
+      << ",\n  \"colors\": " << jsonString(co.colors == ColorMode::Fit       ? "fit"
+                                   : co.colors == ColorMode::FitRule ? "rule"
+                                                                     : "sampled")
       << ",\n  \"max_error\": " << num(co.maxError) << ",\n  \"max_patches\": " << co.maxPatches
       << ",\n  \"seconds\": " << secondsJson(report.seconds) << ",\n  \"io_seconds\": {\"read\": "
       << num(readSeconds) << ", \"mask\": " << num(maskSeconds) << ", \"write\": "

@@ -694,3 +694,40 @@ TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[
         CHECK(info.code == 0);
     }
 }
+
+TEST_CASE("convert --colors rule gives meshes whose editable SVG keeps their colours", "[cli_convert]") {
+    // The apple with its mask: the free fit's colour slopes are far from SVG's bicubic rule;
+    // with --colors rule the slopes are the rule's, the compact file leaves them out, and the
+    // editable export differs from our colours only where chords and knots disagree.
+    const fs::path d = tmpDir("colorsrule");
+    const std::string in = std::string(GRADMESH_SAMPLES) + "/apple.jpg";
+    const std::string mask = std::string(GRADMESH_SAMPLES) + "/apple_mask.png";
+    double deviation[2] = {0, 0};
+    uintmax_t compact[2] = {0, 0};
+    int k = 0;
+    for (const std::string mode : {"fit", "rule"}) {
+        const fs::path out = d / (mode + ".gmb");
+        const Run r = gradmesh("convert " + q(in) + " --mask " + q(mask) + " --colors " + mode +
+                                   " -o " + q(out) + " --compact --report " +
+                                   q(d / (mode + ".json")),
+                               d);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        CHECK_THAT(slurp(d / (mode + ".json")), Contains("\"colors\": \"" + mode + "\""));
+        const Run info = gradmesh("info " + q(out), d);
+        REQUIRE(info.code == 0);
+        const auto at = info.out.find("colour within ");
+        REQUIRE(at != std::string::npos);
+        deviation[k] = std::stod(info.out.substr(at + 14));
+        compact[k] = fs::file_size(out);
+        ++k;
+    }
+    WARN("apple: editable SVG colour within " << deviation[0] << "/255 (fit), " << deviation[1]
+                                              << "/255 (rule); compact " << compact[0] << " B, "
+                                              << compact[1] << " B");
+    CHECK(deviation[1] < 16);
+    CHECK(deviation[0] > 4 * deviation[1]);
+    CHECK(compact[1] < compact[0]);
+    const Run bad = gradmesh("convert " + q(in) + " --colors exact -o " + q(d / "x.gmb"), d);
+    checkFailure(bad, 2, {"--colors", "fit, rule or sampled"});
+}

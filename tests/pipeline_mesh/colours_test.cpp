@@ -178,10 +178,11 @@ TEST_CASE("colours reject mismatched inputs", "[colours]") {
     CHECK_THROWS_AS(computeColors(geo, small, s.region), Error);
 }
 
-TEST_CASE("the fit recovers a mesh's own colours through slits and tangent breaks", "[colours]") {
-    // The target image is a render of the grid with arbitrary colours in every slot the
-    // patches use: node copies on both sides of the slit, the slit ends' ±d, a tangent break.
-    const auto s = slitRectangle();
+namespace {
+
+// The slit rectangle's 4x2 grid with arbitrary colours in every slot the patches use: node
+// copies on both sides of the slit, the slit ends' ±d, a tangent break at patch (0, 0).
+GradientMesh paintedSlitGrid(const gmtest::Synthetic& s) {
     GridOptions go;
     go.columns = 4;
     go.rows = 2;
@@ -212,12 +213,26 @@ TEST_CASE("the fit recovers a mesh's own colours through slits and tangent break
     ct.posU = truth.node(1, 1).posU;
     ct.colU = slope();
     truth.tangents.push_back(ct);
+    return truth;
+}
 
+// The image a mesh renders (no antialiasing) and the region of the pixels it paints.
+std::pair<RgbaImage, Region> renderedTarget(const GradientMesh& truth, const Region& like) {
     RenderOptions ro;
     ro.antialias = false;
-    const RgbaImage img = renderMesh(truth, 256, 256, ro).image;
-    Region region = s.region;
+    RgbaImage img = renderMesh(truth, like.width, like.height, ro).image;
+    Region region = like;
     for (size_t p = 0; p < region.mask.size(); ++p) region.mask[p] = img.pixels[p * 4 + 3] >= 0.5f;
+    return {std::move(img), std::move(region)};
+}
+
+}  // namespace
+
+TEST_CASE("the fit recovers a mesh's own colours through slits and tangent breaks", "[colours]") {
+    // The target image is a render of the grid with arbitrary colours in every slot.
+    const auto s = slitRectangle();
+    const GradientMesh truth = paintedSlitGrid(s);
+    const auto [img, region] = renderedTarget(truth, s.region);
     GradientMesh geometry = truth;
     for (Node& n : geometry.nodes) n.col = n.colU = n.colV = Vec3{};
     const ColorResult fit = computeColors(geometry, img, region);
@@ -231,4 +246,77 @@ TEST_CASE("the fit recovers a mesh's own colours through slits and tangent break
     for (size_t k = 0; k < sl.below.size(); ++k)
         CHECK(sl.below[k].col.g == Approx(truth.slits[0].below[k].col.g).margin(0.01));
     CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
+}
+
+TEST_CASE("the rule fit recovers colours that follow the rule, through slits and breaks",
+          "[colours][rule]") {
+    const auto s = slitRectangle();
+    GradientMesh truth = paintedSlitGrid(s);
+    applyColorRule(truth);
+    const auto [img, region] = renderedTarget(truth, s.region);
+    GradientMesh geometry = truth;
+    for (Node& n : geometry.nodes) n.col = n.colU = n.colV = Vec3{};
+    ColorOptions co;
+    co.mode = ColorMode::FitRule;
+    const ColorResult fit = computeColors(geometry, img, region, co);
+    WARN("recovering a rule mesh's colours with the rule fit: E " << fit.error.meanAbs << ", max "
+                                                                  << fit.error.maxAbs);
+    CHECK(followsColorRule(fit.mesh, 1e-12));
+    CHECK(fit.error.meanAbs < 0.05);
+    CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
+    CHECK(fit.mesh.slits[0].below[0].col.r == Approx(truth.slits[0].below[0].col.r).margin(0.01));
+}
+
+TEST_CASE("the rule fit lies between sampled colours and the free fit", "[colours][rule]") {
+    // Hole-free grids up to 12x12 (the Jacobian of the rule from nodes stepped five apart) and
+    // a rule mesh's own colours recovered on a 12x12 grid.
+    const auto s = disk();
+    const RgbaImage img = gmtest::paint(512, 512, smooth);
+    for (int cells : {3, 6, 12}) {
+        GridOptions go;
+        go.columns = go.rows = cells;
+        const GradientMesh geo = buildGrid(s.tri, s.map, go);
+        ColorOptions co;
+        co.mode = ColorMode::Sampled;
+        const ColorResult sampled = computeColors(geo, img, s.region, co);
+        co.mode = ColorMode::FitRule;
+        const ColorResult rule = computeColors(geo, img, s.region, co);
+        co.mode = ColorMode::Fit;
+        const ColorResult fit = computeColors(geo, img, s.region, co);
+        WARN(cells << "x" << cells << " disk, smooth image: PSNR sampled " << sampled.error.psnr
+                   << ", rule " << rule.error.psnr << ", fit " << fit.error.psnr);
+        CHECK(followsColorRule(rule.mesh, 1e-12));
+        CHECK(rule.error.rmse < sampled.error.rmse);
+        CHECK(fit.error.rmse <= rule.error.rmse * 1.001);
+    }
+    GridOptions go;
+    go.columns = go.rows = 12;
+    GradientMesh truth = buildGrid(s.tri, s.map, go);
+    for (Node& n : truth.nodes) n.col = smooth(n.pos.x, n.pos.y);
+    applyColorRule(truth);
+    const auto [target, region] = renderedTarget(truth, s.region);
+    ColorOptions co;
+    co.mode = ColorMode::FitRule;
+    const ColorResult back = computeColors(truth, target, region, co);
+    CHECK(back.error.meanAbs < 0.05);
+}
+
+TEST_CASE("a slit mesh too large for the rule fit keeps sampled colours, which follow the rule",
+          "[colours][rule]") {
+    const auto s = slitRectangle();
+    GridOptions go;
+    go.columns = 30;
+    go.rows = 24;
+    go.slits = {{100, 50, 150}};
+    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    REQUIRE(geo.slits.size() == 1);
+    REQUIRE(geo.nodes.size() > 600);
+    const RgbaImage img = gmtest::paint(256, 256, smooth);
+    ColorOptions co;
+    co.mode = ColorMode::FitRule;
+    const ColorResult rule = computeColors(geo, img, s.region, co);
+    co.mode = ColorMode::Sampled;
+    const ColorResult sampled = computeColors(geo, img, s.region, co);
+    CHECK(followsColorRule(rule.mesh, 1e-12));
+    CHECK(rule.error.meanAbs == Approx(sampled.error.meanAbs).margin(1e-9));
 }

@@ -24,7 +24,11 @@
 
 namespace gm {
 
-enum class ColorMode { Sampled, Fit };
+// FitRule: as Fit, but only node colours are unknowns and every colour slope follows the rule
+// (applyColorRule): files may omit the slopes, and the editable SVG export is Inkscape's own
+// bicubic rule on our colours. Meshes too large for its solve (over 600 value copies with
+// slits or tangent breaks) keep the sampled solution.
+enum class ColorMode { Sampled, Fit, FitRule };
 
 struct ColorOptions {
     ColorMode mode = ColorMode::Fit;
