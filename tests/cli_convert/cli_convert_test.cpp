@@ -695,7 +695,8 @@ TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[
     }
 }
 
-TEST_CASE("convert --colors rule gives meshes whose editable SVG keeps their colours", "[cli_convert]") {
+TEST_CASE("convert --colors rule gives meshes whose editable SVG keeps their colours",
+          "[cli_convert][external]") {
     // The apple with its mask: the free fit's colour slopes are far from SVG's bicubic rule;
     // with --colors rule the slopes are the rule's, the compact file leaves them out, and the
     // editable export differs from our colours only where chords and knots disagree.
@@ -728,6 +729,32 @@ TEST_CASE("convert --colors rule gives meshes whose editable SVG keeps their col
     CHECK(deviation[1] < 16);
     CHECK(deviation[0] > 4 * deviation[1]);
     CHECK(compact[1] < compact[0]);
+    // What Inkscape (the consumer the editable export is for) paints against our renderer.
+    double inkE[2] = {0, 0};
+    k = 0;
+    for (const std::string mode : {"fit", "rule"}) {
+        const fs::path svg = d / (mode + "_editable.svg"), ink = d / (mode + "_inkscape.png");
+        REQUIRE(gradmesh("convert " + q(d / (mode + ".gmb")) + " -o " + q(svg) +
+                             " --svg-colors editable",
+                         d)
+                    .code == 0);
+        REQUIRE(gradmesh("render " + q(d / (mode + ".gmb")) + " -o " + q(d / (mode + ".png")), d)
+                    .code == 0);
+        const std::string home = (d / "inkscape-home").string();
+        REQUIRE(std::system(("HOME=" + q(home) + " XDG_CONFIG_HOME=" + q(home) +
+                             " inkscape --export-type=png --export-filename=" + q(ink) + " " +
+                             q(svg) + " >/dev/null 2>&1")
+                                .c_str()) == 0);
+        const Run cmp = gradmesh("compare " + q(d / (mode + ".png")) + " " + q(ink), d);
+        REQUIRE(cmp.code == 0);
+        const auto at = cmp.out.find("E: ");
+        REQUIRE(at != std::string::npos);
+        inkE[k++] = std::stod(cmp.out.substr(at + 3));
+    }
+    WARN("apple, Inkscape's render of the editable SVG against ours: E " << inkE[0] << " (fit), "
+                                                                         << inkE[1] << " (rule)");
+    CHECK(inkE[1] < 1.0);
+    CHECK(inkE[0] > 3 * inkE[1]);
     const Run bad = gradmesh("convert " + q(in) + " --colors exact -o " + q(d / "x.gmb"), d);
     checkFailure(bad, 2, {"--colors", "fit, rule or sampled"});
 }
