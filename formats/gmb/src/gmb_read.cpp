@@ -133,6 +133,8 @@ private:
     // What is wrong with a mesh header's counts (limits, what its grid can hold), or "".
     std::string countProblem(const MeshHeader& h) const;
     GradientMesh readSections(const MeshHeader& h);
+    uint64_t openMeshRun(const Section& s, const char* tag, int minor, uint64_t meshesLeft,
+                         Payload& p, int (&shared)[kFieldCount]);
     void readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
     void readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Document& doc);
     void readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
@@ -589,24 +591,36 @@ void Decoder::addMesh(GradientMesh m, const MeshHeader& h, Document& doc) {
     doc.meshes.push_back(std::move(m));
 }
 
-// A CMSH section: a run of meshes in encoding 2 (version 1.2).
-void Decoder::readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
-    if (minor_ < 2)
-        fail("section CMSH needs format version 1.2 (the file says 1." + std::to_string(minor_) + ")",
+// The start of a CMSH or CMS2 section (`tag`, since 1.`minor`): the section checked, its
+// payload opened, the mesh count M (returned) and the shared exponents read.
+uint64_t Decoder::openMeshRun(const Section& s, const char* tag, int minor, uint64_t meshesLeft,
+                              Payload& p, int (&shared)[kFieldCount]) {
+    const std::string name(tag);
+    if (minor_ < minor)
+        fail("section " + name + " needs format version 1." + std::to_string(minor) +
+                 " (the file says 1." + std::to_string(minor_) + ")",
              s.start);
     if (s.codec != static_cast<uint8_t>(Codec::Stored))
-        fail("section CMSH must be stored (codec 0), not codec " + std::to_string(s.codec), s.start);
-    meshName_.clear();  // the section holds several meshes: each record names its own
-    Payload p;
+        fail("section " + name + " must be stored (codec 0), not codec " + std::to_string(s.codec),
+             s.start);
+    meshName_.clear();  // the section holds several meshes: each names its own
     open(s, s.stored, p);
     ByteReader& r = p.reader;
     const uint64_t count = r.varint();
-    if (count == 0) r.fail("a CMSH section holds no mesh");
+    if (count == 0) r.fail("a " + name + " section holds no mesh");
     if (count > meshesLeft)
-        r.fail("CMSH holds " + std::to_string(count) + " meshes, but the document has only " +
+        r.fail(name + " holds " + std::to_string(count) + " meshes, but the document has only " +
                std::to_string(meshesLeft) + " more");
-    int shared[kFieldCount] = {};
     for (int f = kPos; f < kFieldCount; ++f) shared[f] = readExponent(r);
+    return count;
+}
+
+// A CMSH section: a run of meshes in encoding 2 (version 1.2).
+void Decoder::readCompactMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
+    Payload p;
+    int shared[kFieldCount] = {};
+    const uint64_t count = openMeshRun(s, "CMSH", 2, meshesLeft, p, shared);
+    ByteReader& r = p.reader;
     r.need(satMul(count, kMinMeshRecord), std::to_string(count) + " mesh records");
     const uint64_t payloadAt = s.start + kSectionHeaderSize;
     for (uint64_t k = 0; k < count; ++k) {
@@ -662,22 +676,10 @@ void Decoder::charge(ByteReader& r, uint64_t bytes) {
 
 // A CMS2 section: a run of meshes in encoding 2 in one range-coded stream (version 1.3).
 void Decoder::readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
-    if (minor_ < 3)
-        fail("section CMS2 needs format version 1.3 (the file says 1." + std::to_string(minor_) + ")",
-             s.start);
-    if (s.codec != static_cast<uint8_t>(Codec::Stored))
-        fail("section CMS2 must be stored (codec 0), not codec " + std::to_string(s.codec), s.start);
-    meshName_.clear();  // the section holds several meshes: each names its own
     Payload p;
-    open(s, s.stored, p);
-    ByteReader& r = p.reader;
-    const uint64_t count = r.varint();
-    if (count == 0) r.fail("a CMS2 section holds no mesh");
-    if (count > meshesLeft)
-        r.fail("CMS2 holds " + std::to_string(count) + " meshes, but the document has only " +
-               std::to_string(meshesLeft) + " more");
     int shared[kFieldCount] = {};
-    for (int f = kPos; f < kFieldCount; ++f) shared[f] = readExponent(r);
+    const uint64_t count = openMeshRun(s, "CMS2", 3, meshesLeft, p, shared);
+    ByteReader& r = p.reader;
     r.need(count / kStreamMeshesPerByte, std::to_string(count) + " range-coded meshes");
     CompactStreamReader stream(r);
     for (uint64_t k = 0; k < count; ++k) {
