@@ -100,6 +100,18 @@ void placeSlit(ByteReader& r, const MeshHeader& h, size_t k, uint64_t row, uint6
     s.i1 = static_cast<int>(i1);
 }
 
+// Slit s's two end tangents (left then right: posU.x, posU.y, then colU unless colours go by the
+// rule), each value from value(field, column).
+template <class Value>
+void readSlitEnds(const MeshHeader& h, Slit& s, Value value) {
+    for (SlitEnd* end : {&s.left, &s.right}) {
+        const size_t column = static_cast<size_t>(end == &s.left ? s.i0 : s.i1);
+        for (double* x : {&end->posU.x, &end->posU.y}) *x = value(kPosU, column);
+        if (!h.byRule)
+            for (int c = 0; c < 3; ++c) end->colU[c] = value(kColU, column);
+    }
+}
+
 // Tangent break k's patch (i, j) and corner (a, b), which must lie inside the grid.
 void placeBreak(ByteReader& r, const MeshHeader& h, size_t k, uint64_t i, uint64_t j, uint64_t a,
                 uint64_t b, CornerTangent& t) {
@@ -486,14 +498,9 @@ void Decoder::readSlits(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
         const uint64_t i0 = f64 ? r.u32() : r.varint();
         const uint64_t i1 = f64 ? r.u32() : r.varint();
         placeSlit(r, h, k, row, i0, i1, s);
-        for (SlitEnd* end : {&s.left, &s.right}) {
-            const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
-            for (double* x : {&end->posU.x, &end->posU.y})
-                *x = f64 ? r.f64() : derivativeU(r, h, kPosU, r.svarint(), column);
-            if (!h.byRule)
-                for (int c = 0; c < 3; ++c)
-                    end->colU[c] = f64 ? r.f64() : derivativeU(r, h, kColU, r.svarint(), column);
-        }
+        readSlitEnds(h, s, [&](Field f, size_t column) {
+            return f64 ? r.f64() : derivativeU(r, h, f, r.svarint(), column);
+        });
         const uint64_t below = i1 - i0 - 1;
         r.need(satMul(below, minNode), "the split nodes of slit " + std::to_string(k));
         s.below.resize(static_cast<size_t>(below));
@@ -769,14 +776,9 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
         const uint64_t i0 = in.getUnsigned(StreamField::SlitIndex);
         const uint64_t i1 = in.getUnsigned(StreamField::SlitIndex);
         placeSlit(r, h, k, row, i0, i1, s);
-        for (SlitEnd* end : {&s.left, &s.right}) {
-            const size_t column = static_cast<size_t>(end == &s.left ? i0 : i1);
-            for (double* x : {&end->posU.x, &end->posU.y})
-                *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::SlitEnd), column);
-            if (!h.byRule)
-                for (int c = 0; c < 3; ++c)
-                    end->colU[c] = derivativeU(r, h, kColU, in.getSigned(StreamField::SlitEnd), column);
-        }
+        readSlitEnds(h, s, [&](Field f, size_t column) {
+            return derivativeU(r, h, f, in.getSigned(StreamField::SlitEnd), column);
+        });
         const uint64_t below = i1 - i0 - 1;
         charge(r, satMul(kDecodedBytesPerValue, satMul(below, F)));
         r.need(satMul(below, F) / kValuesPerStreamByte, "the split nodes of slit " + std::to_string(k));
