@@ -151,6 +151,10 @@ def main():
         # with a budget that --max-error, not the budget, stops.
         ("apple.jpg + apple_mask.png, --max-patches 16000", S("apple.jpg"), S("apple_mask.png"),
          ["--max-patches", "16000"]),
+        # Colour slopes by SVG's bicubic rule: smaller files, an editable SVG that keeps the
+        # colours (see the notes' "editable SVG" figure), some E.
+        ("apple.jpg + apple_mask.png, --colors rule", S("apple.jpg"), S("apple_mask.png"),
+         ["--colors", "rule"]),
         ("horse.png (no mask: convert decides)", S("horse.png"), None),
         ("horse.png + silhouette mask", S("horse.png"), G("horse_mask.png")),
         ("blob (synthetic, 512²)", G("blob.png"), None),
@@ -224,6 +228,14 @@ def main():
         pe = subprocess.run([gm, "convert", gmb, "-o", svg_edit, "--svg-colors", "editable"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         svg_edit_bytes = os.path.getsize(svg_edit) if pe.returncode == 0 else None
+        # How far Inkscape's bicubic rule, applied to our node colours in that file, is from
+        # our colours (gradmesh info).
+        pi = subprocess.run([gm, "info", gmb], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+        edit_dev = None
+        for line in pi.stdout.splitlines():
+            if line.startswith("editable svg: colour within "):
+                edit_dev = line.split("within ", 1)[1].split("/", 1)[0]
         err = r["error"]
         pixels = sum(g["pixels"] for g in r["regions"])
         holes = sum(g["holes"] for g in r["regions"])
@@ -253,6 +265,8 @@ def main():
         dev = [g["outline_deviation"] for g in r["regions"] if "outline_deviation" in g]
         if dev:
             notes.append("outline deviation %.2f px" % max(dev))
+        if edit_dev is not None:
+            notes.append("editable SVG colour within %s/255" % edit_dev)
         folded = sum(g.get("folded_patches", 0) for g in r["regions"])
         notes.append("%d folded patches" % folded)
         topo = sum(1 for g in r["regions"] if g.get("feature_map") is False)
