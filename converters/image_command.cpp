@@ -39,7 +39,7 @@ const char* kImageConvertHelp =
     "                          and at most one patch per 8 pixels of the region)\n"
     "  --colors MODE           fit (default: least squares over the pixels), rule (least\n"
     "                          squares with slopes by the SVG bicubic rule: smaller compact\n"
-    "                          files, exact editable SVG) or sampled\n"
+    "                          files, an editable SVG close to our colours) or sampled\n"
     "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
     "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
     "  --min-area N            drop object components under N pixels (default 64)\n"
