@@ -14,6 +14,9 @@ $gm info out/apple.gmb
 $gm convert out/apple.gmb -o out/apple-compact.gmb --compact
 $gm convert out/apple.gmb -o out/apple.svg                      # exact colours, for Inkscape
 $gm convert out/apple.gmb -o out/apple-editable.svg --svg-colors editable
+# For editing in Inkscape: colour slopes by SVG's own bicubic rule, so the editable SVG keeps
+# the colours (at some error: see README, --colors).
+$gm convert samples/apple.jpg --mask samples/apple_mask.png --colors rule -o out/apple-rule.svg --svg-colors editable
 $gm convert out/apple.gmb -o out/apple.eps
 $gm convert out/apple.gmb -o out/apple.pdf
 $gm render out/apple.gmb -o out/apple.png --background white
