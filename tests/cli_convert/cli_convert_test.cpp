@@ -270,7 +270,25 @@ TEST_CASE("options --max-patches, --colors and --max-error are honoured and repo
     CHECK(jsonNumber(small, "max_error") == 0);
     CHECK(jsonNumber(small, "patches") >= 1);
     CHECK(jsonNumber(small, "patches") <= 4);
+    CHECK(jsonNumber(small, "svg") > 0);  // the exact SVG's bytes, for a small mesh
     CHECK(entries(d) == std::set<std::string>{"blob.png", "small.gmb", "small.json"});
+}
+
+TEST_CASE("a report on a mesh of thousands of patches leaves the exact SVG's size out",
+          "[cli_convert]") {
+    // Encoding it would take longer than the conversion (12,000 patches: 357 MB, ~14 s).
+    const fs::path d = tmpDir("reportbig");
+    writePng(blob(240, 200), d / "blob.png");
+    const Run r = gradmesh("convert " + q(d / "blob.png") + " -o " + q(d / "big.gmb") +
+                               " --max-patches 2600 --max-error 0 --report " + q(d / "big.json"),
+                           d);
+    checkSuccess(r);
+    const std::string big = slurp(d / "big.json");
+    INFO(big);
+    CHECK(balancedJson(big));
+    CHECK(jsonNumber(big, "patches") > 2000);
+    CHECK_THAT(big, Contains("\"svg\": null"));
+    CHECK(jsonNumber(big, "gmb_compact") > 0);
 }
 
 TEST_CASE("compact levels: coarser .gmb files are smaller and report their own error",
