@@ -386,9 +386,9 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         if (segment)
             s << ", \"label\": " << segReport.regionLabels[k]
               << ", \"fallback\": " << jsonString(segReport.fallbacks[k]);
-        if (segment && k < segReport.allotted.size())
-            s << ", \"largest_budget\": " << segReport.firstPassPatches[k]
-              << ", \"budget\": " << segReport.allotted[k];
+        if (segment && k < segReport.keptBudget.size())
+            s << ", \"largest_budget\": " << segReport.largestBudget[k]
+              << ", \"budget\": " << segReport.keptBudget[k];
         s
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices

@@ -248,7 +248,7 @@ void measure(const GradientMesh& mesh, const RgbaImage& image, const Region& reg
 // reads the values within two nodes along its line (the end slopes reach one further than the
 // inner ones), so in a mesh without slits or tangent breaks the values of nodes five apart in
 // both directions are stepped together; otherwise one value at a time (small meshes only).
-// False when the mesh is too large for that.
+// `mesh` must follow the rule. False when the mesh is too large for that.
 bool ruleJacobian(const GradientMesh& mesh, const SlotLayout& L,
                   std::vector<Eigen::SparseMatrix<double>>& J) {
     const bool grid = mesh.slits.empty() && mesh.tangents.empty();
@@ -256,7 +256,6 @@ bool ruleJacobian(const GradientMesh& mesh, const SlotLayout& L,
     const int C = mesh.columns(), n = L.total(), nv = L.nCopies;
     constexpr double kStep = 1e-6;
     GradientMesh work = mesh;
-    applyColorRule(work);
     Eigen::MatrixXd base, x;
     gatherColors(work, L, base);
     std::vector<std::vector<Eigen::Triplet<double>>> entries(3);

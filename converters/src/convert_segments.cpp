@@ -272,7 +272,6 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     return take(fallback);
 }
 
-
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -432,9 +431,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         long pixels = 0;
         for (const Region& r : regions) pixels += r.pixelCount;
         for (size_t k = 0; k < n; ++k) {
-            const double share = options.firstPassShare * options.totalPatches *
+            const double share = options.topBudgetShare * options.totalPatches *
                                  double(regions[k].pixelCount) / double(std::max(1L, pixels));
-            const double floor = options.firstPassShare * options.totalPatches / double(n);
+            const double floor = options.topBudgetShare * options.totalPatches / double(n);
             int b = static_cast<int>(std::clamp(std::ceil(std::max(share, floor)), 1.0,
                                                 double(coAll.maxPatches)));
             for (int rung = 0; rung < options.budgetRungs && (rung == 0 || b >= 4); ++rung, b /= 2)
@@ -466,8 +465,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             chosen[k] = std::move(outcomes[w]);
             int most = 0;
             for (size_t v : tried[k]) most = std::max(most, jobs[v].second);
-            rep.firstPassPatches.push_back(most);
-            rep.allotted.push_back(jobs[w].second);
+            rep.largestBudget.push_back(most);
+            rep.keptBudget.push_back(jobs[w].second);
         }
         rep.conversions = static_cast<int>(jobs.size());
         outcomes = std::move(chosen);

@@ -304,7 +304,7 @@ TEST_CASE("with a whole-image patch budget the busy region gets the patches and 
     SegmentConvertReport rep;
     const Document doc = convertSegmented(image, o, "striped scene", &rep);
     REQUIRE(rep.failedRegions == 0);
-    REQUIRE(rep.allotted.size() == rep.convert.regions.size());
+    REQUIRE(rep.keptBudget.size() == rep.convert.regions.size());
     CHECK(rep.conversions > static_cast<int>(rep.convert.regions.size()));
     int regionPatches = 0, smallest = 0;
     double busiest = 0, calmest = 1e9;  // patches per 1000 pixels
@@ -315,7 +315,7 @@ TEST_CASE("with a whole-image patch budget the busy region gets the patches and 
         smallest += std::min(r.patches, 4);
         const double density = 1000.0 * r.patches / r.pixels;
         INFO("region " << k << ": " << r.pixels << " px, " << r.patches << " patches, E "
-                       << r.error.meanAbs << ", budget " << rep.allotted[k]);
+                       << r.error.meanAbs << ", budget " << rep.keptBudget[k]);
         if (density > busiest) busiest = density, striped = k;
         calmest = std::min(calmest, density);
     }

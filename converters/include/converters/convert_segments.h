@@ -56,14 +56,14 @@ struct SegmentConvertOptions {
     double coarseBasePatchSize = 256;
     // When > 0 (--total-patches): one patch budget for the whole image, shared out where it
     // lowers the squared error most. Every region is converted at a ladder of budgetRungs
-    // budgets, halving from a generous one (firstPassShare times its share of totalPatches by
-    // pixels, at least firstPassShare times the mean share) down to 4 patches; each region's
+    // budgets, halving from a generous one (topBudgetShare times its share of totalPatches by
+    // pixels, at least topBudgetShare times the mean share) down to 4 patches; each region's
     // meshes that are worth their patches (the lower convex hull of patches against squared
     // error) are its choices; every region starts with its smallest, then the step with the
     // steepest error drop per patch that fits in what is left is taken, until none fits. The
     // meshes chosen are kept (no further conversion). --max-error still stops each region.
     int totalPatches = 0;
-    double firstPassShare = 4;
+    double topBudgetShare = 4;
     int budgetRungs = 5;
 };
 
@@ -85,7 +85,7 @@ struct SegmentConvertReport {
     double totalSeconds = 0;     // wall, segmentation to measurement
     // --total-patches: per convert.regions entry, the largest budget tried and the budget of
     // the mesh kept; and how many conversions were made in all.
-    std::vector<int> firstPassPatches, allotted;
+    std::vector<int> largestBudget, keptBudget;
     int conversions = 0;
 };
 
