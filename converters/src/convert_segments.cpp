@@ -272,6 +272,11 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     return take(fallback);
 }
 
+// The budgets of the --total-patches ladder: 4·2^(i/2) rounded (4, 6, 8, 11, 16, 23, 32, 45, ...).
+int budgetRung(int i) {
+    return static_cast<int>(std::min(1e9, std::round(4 * std::pow(2.0, i / 2.0))));
+}
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -302,47 +307,59 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
 }  // namespace
 
 // (convert_segments.h)
-std::vector<RdPoint> lowerHull(std::vector<RdPoint> pts) {
+std::vector<RdPoint> paretoFront(std::vector<RdPoint> pts) {
     std::sort(pts.begin(), pts.end(), [](const RdPoint& a, const RdPoint& b) {
         return a.patches < b.patches || (a.patches == b.patches && a.sse < b.sse);
     });
-    std::vector<RdPoint> hull;
-    for (const RdPoint& p : pts) {
-        if (!hull.empty() && (p.patches == hull.back().patches || p.sse >= hull.back().sse))
-            continue;
-        // Drop the last point while it lies on or above the chord from its predecessor to p.
-        while (hull.size() >= 2) {
-            const RdPoint& a = hull[hull.size() - 2];
-            const RdPoint& b = hull.back();
-            if ((b.sse - a.sse) * (p.patches - a.patches) < (p.sse - a.sse) * (b.patches - a.patches))
-                break;
-            hull.pop_back();
-        }
-        hull.push_back(p);
-    }
-    return hull;
+    std::vector<RdPoint> front;
+    for (const RdPoint& p : pts)
+        if (front.empty() || (p.patches > front.back().patches && p.sse < front.back().sse))
+            front.push_back(p);
+    return front;
 }
 
 // (convert_segments.h)
-std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& hulls, int total) {
-    const size_t n = hulls.size();
+std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts, int total) {
+    const size_t n = fronts.size();
     std::vector<size_t> at(n, 0);
-    double used = 0;
-    for (const auto& h : hulls) used += h.front().patches;
-    for (;;) {
-        size_t best = n;
-        double slope = 0;
-        for (size_t k = 0; k < n; ++k) {
-            if (at[k] + 1 >= hulls[k].size()) continue;
-            const RdPoint& a = hulls[k][at[k]];
-            const RdPoint& b = hulls[k][at[k] + 1];
-            if (used + b.patches - a.patches > total) continue;
-            const double s = (a.sse - b.sse) / (b.patches - a.patches);
-            if (best == n || s > slope) best = k, slope = s;
+    // Patches beyond each region's first point, in units of `unit` patches (rounded up, so
+    // that what is chosen always fits); `room` is what the total leaves for them.
+    long first = 0, most = 0;
+    for (const auto& f : fronts) {
+        first += std::lround(f.front().patches);
+        most += std::lround(f.back().patches - f.front().patches);
+    }
+    long room = std::min<long>(static_cast<long>(total) - first, most);
+    if (room <= 0 || n == 0) return at;
+    const long unit = std::max(1L, static_cast<long>(std::ceil(double(n) * double(room + 1) /
+                                                                kAllotCells)));
+    const long cells = room / unit + 1;
+    // best[t]: the least summed error of the regions so far with at most t units beyond their
+    // first points; pick[k][t]: region k's point there.
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<double> best(static_cast<size_t>(cells), 0.0), next(best.size());
+    std::vector<std::vector<uint16_t>> pick(n, std::vector<uint16_t>(best.size(), 0));
+    for (size_t k = 0; k < n; ++k) {
+        const auto& f = fronts[k];
+        const size_t m = std::min<size_t>(f.size(), 65535);
+        std::fill(next.begin(), next.end(), inf);
+        for (size_t i = 0; i < m; ++i) {
+            const long extra =
+                (std::lround(f[i].patches - f.front().patches) + unit - 1) / unit;
+            for (long t = extra; t < cells; ++t) {
+                const double v = best[static_cast<size_t>(t - extra)] + f[i].sse;
+                if (v < next[static_cast<size_t>(t)]) {
+                    next[static_cast<size_t>(t)] = v;
+                    pick[k][static_cast<size_t>(t)] = static_cast<uint16_t>(i);
+                }
+            }
         }
-        if (best == n) break;
-        used += hulls[best][at[best] + 1].patches - hulls[best][at[best]].patches;
-        ++at[best];
+        best.swap(next);
+    }
+    long t = cells - 1;
+    for (size_t k = n; k-- > 0;) {
+        at[k] = pick[k][static_cast<size_t>(t)];
+        t -= (std::lround(fronts[k][at[k]].patches - fronts[k].front().patches) + unit - 1) / unit;
     }
     return at;
 }
@@ -426,18 +443,20 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     std::vector<RegionOutcome> outcomes;
     std::vector<std::pair<size_t, int>> jobs;
     if (options.totalPatches > 0 && n > 0) {
-        // Every region at a ladder of budgets, halving from a generous one, to measure its
-        // error curve; then the budget goes where the error falls most per patch.
+        // Every region at the budget ladder up to a generous budget, to measure its error
+        // curve; then the budget goes where it lowers the summed error most.
         long pixels = 0;
         for (const Region& r : regions) pixels += r.pixelCount;
         for (size_t k = 0; k < n; ++k) {
             const double share = options.topBudgetShare * options.totalPatches *
                                  double(regions[k].pixelCount) / double(std::max(1L, pixels));
             const double floor = options.topBudgetShare * options.totalPatches / double(n);
-            int b = static_cast<int>(std::clamp(std::ceil(std::max(share, floor)), 1.0,
-                                                double(coAll.maxPatches)));
-            for (int rung = 0; rung < options.budgetRungs && (rung == 0 || b >= 4); ++rung, b /= 2)
+            const double want = std::max(share, floor);
+            for (int i = 0;; ++i) {
+                const int b = std::min(budgetRung(i), coAll.maxPatches);
                 jobs.push_back({k, b});
+                if (b >= want || b == coAll.maxPatches) break;
+            }
         }
         // Largest budgets first: the slowest jobs start first.
         std::stable_sort(jobs.begin(), jobs.end(),
@@ -456,7 +475,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                                o.report.error.rmse * o.report.error.rmse * covered, w});
             }
             if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
-            curves[k] = lowerHull(std::move(pts));
+            curves[k] = paretoFront(std::move(pts));
         }
         const std::vector<size_t> pick = allotPatches(curves, options.totalPatches);
         std::vector<RegionOutcome> chosen(n);

@@ -253,51 +253,89 @@ TEST_CASE("a region with a lobe behind a narrow neck is cut there when that lowe
                std::string(GRADMESH_TMP) + "/segment_neck.png");
 }
 
-TEST_CASE("a region's meshes worth their patches form the lower convex hull of its error curve",
+TEST_CASE("a region's meshes worth their patches: fewer patches or less error than the others",
           "[convert][segment][budget]") {
-    // (patches, squared error, job): 30 lies above the chord from 10 to 60; 80 does not lower
-    // the error; the two meshes of 10 patches keep the better one.
-    const std::vector<RdPoint> hull = lowerHull({{60, 200, 0},
-                                                 {10, 1000, 1},
-                                                 {30, 700, 2},
-                                                 {10, 900, 3},
-                                                 {80, 200, 4},
-                                                 {120, 150, 5}});
-    REQUIRE(hull.size() == 3);
-    CHECK(hull[0].job == 3);
-    CHECK(hull[1].job == 0);
-    CHECK(hull[2].job == 5);
-    REQUIRE(lowerHull({{5, 10, 7}}).size() == 1);
+    // (patches, squared error, job): 80 does not lower the error below 60's; of the two meshes
+    // of 10 patches the better is kept; 30 stays (nothing smaller beats it).
+    const std::vector<RdPoint> front = paretoFront({{60, 200, 0},
+                                                    {10, 1000, 1},
+                                                    {30, 700, 2},
+                                                    {10, 900, 3},
+                                                    {80, 200, 4},
+                                                    {120, 150, 5}});
+    REQUIRE(front.size() == 4);
+    CHECK(front[0].job == 3);
+    CHECK(front[1].job == 2);
+    CHECK(front[2].job == 0);
+    CHECK(front[3].job == 5);
+    REQUIRE(paretoFront({{5, 10, 7}}).size() == 1);
 }
 
-TEST_CASE("a whole-image budget goes where the error falls most per patch",
+TEST_CASE("a whole-image budget goes where it lowers the summed error most",
           "[convert][segment][budget]") {
-    // Region 0 falls by 100 per patch up to 20 patches, then by 1; region 1 by 10 per patch.
-    const std::vector<std::vector<RdPoint>> hulls = {
-        {{10, 5000, 0}, {20, 4000, 1}, {120, 3900, 2}},
+    // Region 0 falls by 100 per patch up to 20 patches, then by 2; region 1 by 10 per patch,
+    // then 5.
+    const std::vector<std::vector<RdPoint>> fronts = {
+        {{10, 5000, 0}, {20, 4000, 1}, {120, 3800, 2}},
         {{10, 5000, 3}, {40, 4700, 4}, {60, 4600, 5}}};
-    // 20 + 10 patches: only the start.
-    CHECK(allotPatches(hulls, 20) == std::vector<size_t>{0, 0});
-    // 30: region 0's steep step; 60: then region 1's first step (30 patches at 10 each);
-    // 75: region 1's second step (20 patches at 5 each) does not fit, nor region 0's next.
-    CHECK(allotPatches(hulls, 30) == std::vector<size_t>{1, 0});
-    CHECK(allotPatches(hulls, 75) == std::vector<size_t>{1, 1});
-    CHECK(allotPatches(hulls, 80) == std::vector<size_t>{1, 2});
-    CHECK(allotPatches(hulls, 1000) == std::vector<size_t>{2, 2});
+    CHECK(allotPatches(fronts, 20) == std::vector<size_t>{0, 0});   // only the start
+    CHECK(allotPatches(fronts, 30) == std::vector<size_t>{1, 0});
+    CHECK(allotPatches(fronts, 59) == std::vector<size_t>{1, 0});
+    CHECK(allotPatches(fronts, 60) == std::vector<size_t>{1, 1});
+    CHECK(allotPatches(fronts, 80) == std::vector<size_t>{1, 2});
+    // 160: region 0's last step and region 1's first (8500), not 20 + 60 patches (8600).
+    CHECK(allotPatches(fronts, 160) == std::vector<size_t>{2, 1});
+    CHECK(allotPatches(fronts, 179) == std::vector<size_t>{2, 1});
+    CHECK(allotPatches(fronts, 180) == std::vector<size_t>{2, 2});
+    CHECK(allotPatches(fronts, 1000) == std::vector<size_t>{2, 2});
     // The first points alone over the total: they are kept (nothing smaller was measured).
-    CHECK(allotPatches(hulls, 5) == std::vector<size_t>{0, 0});
+    CHECK(allotPatches(fronts, 5) == std::vector<size_t>{0, 0});
+
+    // Where the steepest step first is not best: region 0's step saves 30 per patch over 10
+    // patches, region 1's 28 over 25; with 25 to spare, region 1's alone (700 saved) beats
+    // region 0's (300 saved, and then region 1's no longer fits).
+    const std::vector<std::vector<RdPoint>> tight = {{{10, 1000, 0}, {20, 700, 1}},
+                                                     {{10, 1000, 2}, {35, 300, 3}}};
+    CHECK(allotPatches(tight, 45) == std::vector<size_t>{0, 1});
+    CHECK(allotPatches(tight, 54) == std::vector<size_t>{0, 1});
+    CHECK(allotPatches(tight, 55) == std::vector<size_t>{1, 1});
+
+    // Many regions and a total past kAllotCells: coarser units, the total still holds.
+    std::vector<std::vector<RdPoint>> many;
+    for (int k = 0; k < 300; ++k)
+        many.push_back({{4, 1e6, 0}, {40000, 5e5 + k, 1}, {80000, 1e5, 2}});
+    const std::vector<size_t> pick = allotPatches(many, 4'000'000);
+    double patches = 0;
+    for (size_t k = 0; k < many.size(); ++k) patches += many[k][pick[k]].patches;
+    CHECK(patches <= 4'000'000);
+    CHECK(patches >= 3'000'000);
 }
 
-TEST_CASE("with a whole-image patch budget the busy region gets the patches and the total holds",
-          "[convert][segment][budget]") {
-    // The scene with a finely striped box: its error falls with every patch, the smooth
-    // regions' hardly at all.
+namespace {
+// The scene with a finely striped box: its error falls with every patch, the smooth regions'
+// hardly at all.
+RgbaImage stripedScene() {
     RgbaImage image = scene();
     for (int y = 41; y < 170; ++y)
         for (int x = 166; x < 225; ++x) {
             float* p = image.at(x, y);
             p[1] = 0.45f + 0.25f * float(std::sin(x / 5.0) * std::sin(y / 6.0));
         }
+    return image;
+}
+
+// What --total-patches minimises: the regions' squared errors summed over their covered pixels.
+double summedRegionError(const SegmentConvertReport& rep) {
+    double sse = 0;
+    for (const RegionReport& r : rep.convert.regions)
+        sse += r.error.rmse * r.error.rmse * double(r.error.pixels) * (1 - r.error.uncovered);
+    return sse;
+}
+}  // namespace
+
+TEST_CASE("with a whole-image patch budget the busy region gets the patches and the total holds",
+          "[convert][segment][budget]") {
+    const RgbaImage image = stripedScene();
     SegmentConvertOptions o;
     o.convert.maxError = 0.5;
     o.totalPatches = 160;
@@ -306,28 +344,51 @@ TEST_CASE("with a whole-image patch budget the busy region gets the patches and 
     REQUIRE(rep.failedRegions == 0);
     REQUIRE(rep.keptBudget.size() == rep.convert.regions.size());
     CHECK(rep.conversions > static_cast<int>(rep.convert.regions.size()));
-    int regionPatches = 0, smallest = 0;
-    double busiest = 0, calmest = 1e9;  // patches per 1000 pixels
-    size_t striped = 0;
+    int regionPatches = 0, most = 0;
+    double calmest = 1e9;  // patches per 1000 pixels
+    size_t busiest = 0;
     for (size_t k = 0; k < rep.convert.regions.size(); ++k) {
         const RegionReport& r = rep.convert.regions[k];
         regionPatches += r.patches;
-        smallest += std::min(r.patches, 4);
-        const double density = 1000.0 * r.patches / r.pixels;
-        INFO("region " << k << ": " << r.pixels << " px, " << r.patches << " patches, E "
-                       << r.error.meanAbs << ", budget " << rep.keptBudget[k]);
-        if (density > busiest) busiest = density, striped = k;
-        calmest = std::min(calmest, density);
+        UNSCOPED_INFO("region " << k << ": " << r.pixels << " px, " << r.patches << " patches, E "
+                                << r.error.meanAbs << ", budget " << rep.keptBudget[k]);
+        if (r.patches > most) most = r.patches, busiest = k;
+        calmest = std::min(calmest, 1000.0 * r.patches / r.pixels);
     }
     WARN("striped scene, 160 patches for the whole image: regions got "
          << regionPatches << ", E " << rep.convert.error.meanAbs << ", " << rep.conversions
          << " conversions");
     CHECK(regionPatches <= o.totalPatches);
     CHECK(rep.convert.error.uncovered == 0);
-    // The striped box (the region whose pixels lie in it) has the most patches per pixel, by far.
-    const RegionReport& box = rep.convert.regions[striped];
+    // The striped box (the region whose pixels lie in it) has the most patches, and more than
+    // 4x the patches per pixel of the calmest region.
+    const RegionReport& box = rep.convert.regions[busiest];
     CHECK(box.pixels > 5000);
     CHECK(box.pixels < 9000);
-    CHECK(busiest > 4 * calmest);
+    CHECK(1000.0 * box.patches / box.pixels > 4 * calmest);
     CHECK(doc.meshes.size() >= rep.convert.regions.size() + 1);
+}
+
+TEST_CASE("a larger whole-image patch budget never raises the regions' summed error",
+          "[convert][segment][budget]") {
+    const RgbaImage image = stripedScene();
+    double last = std::numeric_limits<double>::infinity();
+    int lastPatches = 0;
+    for (const int total : {60, 90, 120, 160}) {
+        SegmentConvertOptions o;
+        o.convert.maxError = 0.5;
+        o.totalPatches = total;
+        SegmentConvertReport rep;
+        convertSegmented(image, o, "striped scene", &rep);
+        REQUIRE(rep.failedRegions == 0);
+        const double sse = summedRegionError(rep);
+        int patches = 0;
+        for (const RegionReport& r : rep.convert.regions) patches += r.patches;
+        INFO("total " << total << ": " << patches << " patches, summed squared error " << sse
+                      << " (before: " << lastPatches << ", " << last << ")");
+        CHECK(patches <= total);
+        CHECK(sse <= last);
+        last = sse;
+        lastPatches = patches;
+    }
 }

@@ -55,16 +55,16 @@ struct SegmentConvertOptions {
     double basePatchSize = 64;
     double coarseBasePatchSize = 256;
     // When > 0 (--total-patches): one patch budget for the whole image, shared out where it
-    // lowers the squared error most. Every region is converted at a ladder of budgetRungs
-    // budgets, halving from a generous one (topBudgetShare times its share of totalPatches by
-    // pixels, at least topBudgetShare times the mean share) down to 4 patches; each region's
-    // meshes that are worth their patches (the lower convex hull of patches against squared
-    // error) are its choices; every region starts with its smallest, then the step with the
-    // steepest error drop per patch that fits in what is left is taken, until none fits. The
-    // meshes chosen are kept (no further conversion). --max-error still stops each region.
+    // lowers the squared error most. Every region is converted at budgets 4·2^(i/2) rounded
+    // (4, 6, 8, 11, 16, 23, ...) up to a generous one (topBudgetShare times its share of
+    // totalPatches by pixels, at least topBudgetShare times the mean share, rounded up to the
+    // ladder; at most convert.maxPatches). The meshes kept are those whose patches total at
+    // most totalPatches with the least summed squared error (allotPatches; no further
+    // conversion).
+    // The ladders of a larger total hold those of a smaller one, so the summed error never
+    // rises with the total. --max-error still stops each region.
     int totalPatches = 0;
-    double topBudgetShare = 4;
-    int budgetRungs = 5;
+    double topBudgetShare = 2;
 };
 
 struct SegmentConvertReport {
@@ -96,15 +96,21 @@ struct RdPoint {
     size_t job = 0;
 };
 
-// The lower convex hull of a region's measured meshes, fewest patches first, the error
-// strictly falling: the meshes worth their patches.
-std::vector<RdPoint> lowerHull(std::vector<RdPoint> points);
+// A region's measured meshes that are worth their patches: fewest patches first, each with
+// more patches than the one before and a strictly smaller error (of meshes with equal
+// patches, the better).
+std::vector<RdPoint> paretoFront(std::vector<RdPoint> points);
 
-// Picks one point on each region's hull (an index into it) so that the patches total at most
-// `total` (unless the first points alone exceed it): every region starts at its first point,
-// then the hull step with the steepest error drop per patch that still fits is taken, until
-// none fits. Each hull must be non-empty.
-std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& hulls, int total);
+// allotPatches works on at most this many (region, patch count) cells: beyond it the patch
+// counts are taken in coarser units (rounded up, so the total still holds) and the choice may
+// fall a little short of the best.
+constexpr double kAllotCells = 1e7;
+
+// Picks one point of each region's front (an index into it; each front non-empty, as
+// paretoFront makes it) so that the patches total at most `total` with the least summed
+// squared error: an exact multiple-choice knapsack over the patch counts. When the first
+// points alone exceed the total they are kept (nothing smaller was measured).
+std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts, int total);
 
 // Throws gm::Error naming `imageName` when the image is empty or the segmentation fails. A
 // region whose mesh misses the error target (see neckSplits) or whose map fails is first cut at
