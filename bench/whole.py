@@ -57,15 +57,17 @@ def white_png(path, w, h):
                 + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
-def zipped_size(path):
-    """Bytes of a .zip archive holding the file, headers included: deflated (level 9), or stored
-    when deflate would not make it smaller, as Info-ZIP's zip does (a range-coded .gmb does not
-    deflate: deflate's own framing then adds ~3 %)."""
+def zipped_size(path, member):
+    """Bytes of a .zip archive holding the file as `member`, headers included: deflated (level
+    9), or stored when deflate would not make it smaller, as Info-ZIP's zip does (a range-coded
+    .gmb does not deflate: deflate's own framing then adds ~3 %). The archive holds the name
+    twice (local and central headers): the member is named as a user's file would be
+    (IMAGE.gmb), not by this script's long output names."""
     best = None
     for method in (zipfile.ZIP_DEFLATED, zipfile.ZIP_STORED):
         buf = io.BytesIO()
         with zipfile.ZipFile(buf, "w", method, compresslevel=9 if method else None) as z:
-            z.write(path, os.path.basename(path))
+            z.write(path, member)
         if best is None or len(buf.getvalue()) < len(best):
             best = buf.getvalue()
     with open(path + ".zip", "wb") as f:
@@ -221,7 +223,7 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
             err = r.get("compact", {}).get("error", r["error"])
             psnr = err["psnr"]
             compact = os.path.getsize(gmb)
-            zipped = zipped_size(gmb)
+            zipped = zipped_size(gmb, os.path.splitext(name)[0] + ".gmb")
             regions = r.get("segments", {}).get("count", len(r["regions"]))
             jb, how, reach = jpeg_at(front, psnr)
             if jb is not None:
