@@ -1,10 +1,12 @@
 #include "converters/convert_image.h"
 
+#include <array>
 #include <chrono>
 #include <algorithm>
 #include <cmath>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "converters/boundary.h"
@@ -98,32 +100,70 @@ void coverOutline(const GridBuilder& grid, GridOptions& go, BoundaryFitResult& f
     fitted.maxDeviation = outlineDeviation(grid, grid.build(go));
 }
 
+// The budget-independent stages for one choice of corners (RegionMapCache).
+struct RegionMaps {
+    std::array<int, 4> corners{};
+    TriMesh tri;
+    TopologyMap topo;
+    FeatureMap feature;
+};
+}  // namespace
+
+struct RegionMapCache::Impl {
+    std::mutex mutex;
+    std::vector<std::shared_ptr<const RegionMaps>> maps;
+
+    std::shared_ptr<const RegionMaps> find(const std::array<int, 4>& corners) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& m : maps)
+            if (m->corners == corners) return m;
+        return nullptr;
+    }
+    void keep(std::shared_ptr<const RegionMaps> m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        maps.push_back(std::move(m));
+    }
+};
+RegionMapCache::RegionMapCache() : impl_(std::make_unique<Impl>()) {}
+RegionMapCache::~RegionMapCache() = default;
+
+namespace {
 std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Region& region,
                                               const ConvertOptions& options,
-                                              const RegionCorners& corners) {
+                                              const RegionCorners& corners,
+                                              RegionMapCache* cache) {
     auto g = std::make_unique<RegionGeometry>();
     g->corners = corners;
-    TriangulateOptions to;
-    // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
-    // 4096² object needs no finer triangulation than a 1024² one.
-    to.sampleFraction = std::min(options.sampleFraction,
-                                 double(options.maxSamples) / std::max(1, region.pixelCount));
+    if (const auto kept = cache ? cache->impl().find(corners.index) : nullptr) {
+        g->tri = kept->tri;
+        g->topo = kept->topo;
+        g->feature = kept->feature;
+    } else {
+        TriangulateOptions to;
+        // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
+        // 4096² object needs no finer triangulation than a 1024² one.
+        to.sampleFraction = std::min(options.sampleFraction,
+                                     double(options.maxSamples) / std::max(1, region.pixelCount));
+        auto t0 = Clock::now();
+        g->tri = triangulateRegion(image, region, corners, to);
+        g->seconds.triangulate = since(t0);
+        t0 = Clock::now();
+        g->topo = buildTopologyMapRefining(g->tri, corners.px, corners.py);
+        g->seconds.topology = since(t0);
+
+        t0 = Clock::now();
+        FeatureMapOptions fo;
+        fo.mask = &region.mask;  // the outline against the background is not a feature
+        g->feature = buildFeatureMap(g->tri, g->topo.map, image, fo);
+        g->seconds.feature = since(t0);
+        if (const int flips = countFlippedTriangles(g->tri, g->feature.map); flips != 0)
+            throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
+        if (cache)
+            cache->impl().keep(std::make_shared<const RegionMaps>(
+                RegionMaps{corners.index, g->tri, g->topo, g->feature}));
+    }
+
     auto t0 = Clock::now();
-    g->tri = triangulateRegion(image, region, corners, to);
-    g->seconds.triangulate = since(t0);
-    t0 = Clock::now();
-    g->topo = buildTopologyMapRefining(g->tri, corners.px, corners.py);
-    g->seconds.topology = since(t0);
-
-    t0 = Clock::now();
-    FeatureMapOptions fo;
-    fo.mask = &region.mask;  // the outline against the background is not a feature
-    g->feature = buildFeatureMap(g->tri, g->topo.map, image, fo);
-    g->seconds.feature = since(t0);
-    if (const int flips = countFlippedTriangles(g->tri, g->feature.map); flips != 0)
-        throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
-
-    t0 = Clock::now();
     // The initial grid takes at most a quarter of the patch budget: the rest is for the
     // outline and the colours.
     GridOptions base;
@@ -174,7 +214,8 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
 }  // namespace
 
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
-                           const ConvertOptions& options, RegionReport& rr) {
+                           const ConvertOptions& options, RegionReport& rr,
+                           RegionMapCache* cache) {
     rr = RegionReport{};
     rr.pixels = region.pixelCount;
     rr.holes = static_cast<int>(region.holes.size());
@@ -187,13 +228,13 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     // the boundary follows the outline (tails and fins between two corners need many knots).
     std::unique_ptr<RegionGeometry> g;
     try {
-        g = buildGeometry(image, region, options, first);
+        g = buildGeometry(image, region, options, first, cache);
     } catch (const SqueezeError&) {
         t0 = Clock::now();
         const RegionCorners tips = findTipCorners(region);
         rr.seconds.corners += since(t0);
         if (tips.index == first.index) throw;
-        g = buildGeometry(image, region, options, tips);
+        g = buildGeometry(image, region, options, tips, cache);
         rr.tipCorners = true;
     }
     rr.seconds += g->seconds;
@@ -204,7 +245,8 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
         rr.seconds.corners += since(t0);
         if (tips.index != first.index) {
             try {
-                std::unique_ptr<RegionGeometry> other = buildGeometry(image, region, options, tips);
+                std::unique_ptr<RegionGeometry> other =
+                    buildGeometry(image, region, options, tips, cache);
                 rr.seconds += other->seconds;  // both attempts count
                 if (other->fitted.maxDeviation < g->fitted.maxDeviation) {
                     g = std::move(other);

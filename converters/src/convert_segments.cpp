@@ -74,11 +74,11 @@ ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
 // reason in `fallback`.
 RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
                            const std::vector<uint8_t>& under, const ConvertOptions& co,
-                           const SegmentConvertOptions& options) {
+                           const SegmentConvertOptions& options, RegionMapCache* cache) {
     RegionOutcome out;
     try {
         out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
-                                    out.report)};
+                                    out.report, cache)};
         out.how = 1;
     } catch (const Error& e) {
         out.fallback = e.reason();
@@ -150,7 +150,8 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
 
 RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
                                    const std::vector<uint8_t>& under, const ConvertOptions& coAll,
-                                   const SegmentConvertOptions& options, int depth);
+                                   const SegmentConvertOptions& options, int depth,
+                                   RegionMapCache* cache = nullptr);
 
 // The inverted area (foldedArea) of some meshes, pixels.
 double foldedAreaOf(const std::vector<GradientMesh>& meshes) {
@@ -220,12 +221,14 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
 // the region cut at its narrowest neck (findNeck) with each side converted the same way
 // (recursively, up to neckSplits cuts deep). A cut is kept when it lowers the region's error by
 // 5 %, or, where the whole failed, when every side converted; else the whole's fallbacks
-// (convertFallbacks) are tried, and the better of those and the cut kept.
+// (convertFallbacks) are tried, and the better of those and the cut kept. `cache`: the
+// region's maps from its conversions at other budgets (RegionMapCache), for the whole.
 RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
                                    const std::vector<uint8_t>& under, const ConvertOptions& coAll,
-                                   const SegmentConvertOptions& options, int depth) {
+                                   const SegmentConvertOptions& options, int depth,
+                                   RegionMapCache* cache) {
     const ConvertOptions co = budgetFor(own, coAll, options);
-    RegionOutcome out = convertWhole(image, own, under, co, options);
+    RegionOutcome out = convertWhole(image, own, under, co, options, cache);
     const double target = co.maxError * options.neckErrorFactor;
     const bool mayCut = depth < options.neckSplits && own.pixelCount >= options.neckMinPixels;
     // Folds matter where they paint over regions drawn before this one: the first region drawn
@@ -421,6 +424,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     };
     // Converts region job[w].first with patch budget job[w].second into outcomes[w], the jobs
     // in parallel.
+    // A region converted at several budgets (--total-patches) computes its maps once.
+    std::vector<RegionMapCache> caches(n);
     auto convertJobs = [&](const std::vector<std::pair<size_t, int>>& jobs,
                            std::vector<RegionOutcome>& outcomes) {
         outcomes.resize(jobs.size());
@@ -430,7 +435,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                 ConvertOptions co = coAll;
                 co.maxPatches = jobs[w].second;
                 const size_t k = jobs[w].first;
-                outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0);
+                outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0,
+                                                   options.totalPatches > 0 ? &caches[k] : nullptr);
             }
         };
         std::vector<std::thread> pool;

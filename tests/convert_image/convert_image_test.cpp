@@ -7,6 +7,7 @@
 #include <set>
 
 #include "convert_image/scenes.h"
+#include "converters/regions.h"
 #include "formats/raster.h"
 #include "meshcore/split_legacy.h"
 #include "meshcore/validate.h"
@@ -619,4 +620,35 @@ TEST_CASE("small holes keep their pixels unpainted: hole outlines have a tighter
     CHECK(tight * 1000 <= px * 15);  // at most 1.5 % (holes this small: 9 of 765 px)
     CHECK(tight < loose);
     CHECK(uncovered < 0.005);
+}
+
+TEST_CASE("a region's maps kept for its other budgets give the same meshes", "[convert][cache]") {
+    const int W = 160, H = 160;
+    const std::vector<Hole> holes = {{80, 80, 22}};
+    const Sdf sdf = discWithHoles(80, 80, 64, holes);
+    const RgbaImage image = smoothImage(W, H);
+    const ObjectMask mask = maskFromSdf(W, H, sdf);
+    RegionOptions ro;
+    const std::vector<Region> regions = extractRegions(coverageFromBits(W, H, mask.mask), ro);
+    REQUIRE(regions.size() == 1);
+    REQUIRE(regions[0].holes.size() == 1);
+    RegionMapCache cache;
+    bool first = true;
+    for (const int budget : {64, 12, 64}) {
+        ConvertOptions co;
+        co.maxError = 0.2;  // the budget stops it
+        co.maxPatches = budget;
+        RegionReport plain, cached;
+        const GradientMesh a = convertRegion(image, regions[0], co, plain);
+        const GradientMesh b = convertRegion(image, regions[0], co, cached, &cache);
+        INFO("budget " << budget << ": " << plain.patches << " patches, E " << plain.error.meanAbs);
+        CHECK(a == b);
+        CHECK(plain.patches == cached.patches);
+        CHECK(plain.patches <= budget);
+        CHECK(plain.error.meanAbs == cached.error.meanAbs);
+        // After the first conversion the maps come from the cache: no triangulation.
+        CHECK(plain.seconds.triangulate > 0);
+        CHECK((cached.seconds.triangulate == 0) == !first);
+        first = false;
+    }
 }

@@ -3,6 +3,7 @@
 // M = grid+colours+refine, as in the paper's Table 1).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,28 @@ FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
 
 // One region through corners, triangulate, maps, grid, colours and refine; fills `report`.
 // Throws gm::Error (without a file name) when a stage fails.
+// The stages of a region that do not depend on its patch budget (triangulation, topology and
+// feature maps, per choice of corners), kept for its conversions at other budgets. One cache
+// serves one region (the same pixels, outline and options but maxPatches); it may be shared by
+// threads.
+class RegionMapCache {
+public:
+    RegionMapCache();
+    ~RegionMapCache();
+    RegionMapCache(const RegionMapCache&) = delete;
+    RegionMapCache& operator=(const RegionMapCache&) = delete;
+    struct Impl;
+    Impl& impl() { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// With `cache`: the budget-independent stages are taken from it when it has them, and left in
+// it otherwise.
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
-                           const ConvertOptions& options, RegionReport& report);
+                           const ConvertOptions& options, RegionReport& report,
+                           RegionMapCache* cache = nullptr);
 
 // What the meshes of a region converted in parts may reach under besides the region's own
 // pixels: `under` (width*height, non-zero = drawn on top of this region later; empty: nothing),
