@@ -29,9 +29,10 @@ POINTS = ["2/4", "2/10", "2/t60", "2/t120", "2/25", "2/t250", "2/50", "2/100", "
           "8", "5", "4", "3"]  # about rising size
 
 # Compact .gmb levels of the rate-distortion rows (gmb.h, GmbCompactShifts), each point converted
-# at each: 2 is ~40 % smaller than level 0 for ~0.2 dB at E 3; 4 and 5 trade more PSNR for size,
-# which pays against JPEG at the low-rate end. BENCH_COMPACT_LEVELS=2,4 sets them.
-COMPACT_LEVELS = [int(x) for x in os.environ.get("BENCH_COMPACT_LEVELS", "2,4,5").split(",")]
+# at each: 2 is ~40 % smaller than level 0 for ~0.2 dB at E 3; 4, 5 and 6 trade more PSNR for
+# size, which pays against JPEG at the low-rate end (6, coarser colours, on flat-coloured
+# drawings). BENCH_COMPACT_LEVELS=2,4 sets them.
+COMPACT_LEVELS = [int(x) for x in os.environ.get("BENCH_COMPACT_LEVELS", "2,4,5,6").split(",")]
 
 # The whole-image mode of convert. The one line to change if --segment's arguments change.
 SEGMENT_ARGS = ["--segment"]

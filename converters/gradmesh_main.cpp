@@ -52,7 +52,7 @@ const std::map<std::string, std::string> kHelp = {
      "  Reads IN (by content and extension) and writes OUT in the format of its extension.\n"
      "  -o, --output PATH       output file (required; never the input)\n"
      "  --compact               .gmb: quantised, compressed (positions within 1/64 px)\n"
-     "  --compact-level L       .gmb: compact on coarser grids, L = 0 (as --compact) to 5, or\n"
+     "  --compact-level L       .gmb: compact on coarser grids, L = 0 (as --compact) to 6, or\n"
      "                          auto (image inputs): the coarsest level whose file adds at most\n"
      "                          5% to the mesh's E; 2 is ~40% smaller for ~0.2 dB on a photo\n"
      "  --legacy                write every mesh with holes as its hole-free pieces\n"

@@ -547,7 +547,7 @@ TEST_CASE("bad option values are usage errors", "[cli_convert]") {
                           Case{"--max-patches 0", "--max-patches", "0"},
                           Case{"--colors bogus", "--colors", "bogus"},
                           Case{"--mask ''", "--mask", "needs a file name"},
-                          Case{"--compact-level 6", "--compact-level", "0 to 5"},
+                          Case{"--compact-level 7", "--compact-level", "0 to 6"},
                           Case{"--compact-level best", "--compact-level", "best"},
                           Case{"--compact-level 1.5", "--compact-level", "whole number"},
                           Case{"--max-error", "--max-error", "needs a value"}}) {

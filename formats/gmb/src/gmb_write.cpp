@@ -358,6 +358,7 @@ GmbCompactShifts gmbCompactShifts(int level) {
         case 3: return {3, 2, 3, 4, 12};
         case 4: return {4, 3, 4, 5, 12};
         case 5: return {5, 3, 5, 6, 12};
+        case 6: return {5, 4, 5, 7, 12};
         default:
             throw Error("compact level " + std::to_string(level) + " is not one of 0 to " +
                         std::to_string(kGmbMaxCompactLevel));

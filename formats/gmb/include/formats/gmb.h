@@ -53,11 +53,13 @@ struct GmbCompactBounds {
 // from gmbCompactShifts(L). Every file states its grids, so any reader of its version reads
 // every level.
 // fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and ~15 %
-// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 74 %; 4 and 5
-// suit small, coarse meshes, where they cost little (fruits at 10 patches a region: -0.2 and
-// -0.5 dB).
-constexpr int kGmbMaxCompactLevel = 5;
-// Knots too (GmbCompactBounds::knotRelative × 2^knot): levels 1 to 5 keep each knot within
+// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 74 %, 6 -5.8 dB
+// / 81 %; 4 and 5 suit small, coarse meshes, where they cost little (fruits at 10 patches a
+// region: -0.2 and -0.5 dB). 6 is 5 with colours and colour slopes on grids twice as coarse:
+// for flat-coloured drawings (HappyFish at 10 patches a region: 11 % fewer bytes than 5 for
+// -0.4 dB); on photos it costs more (fruits at 4 a region: 9 % for -1.3 dB).
+constexpr int kGmbMaxCompactLevel = 6;
+// Knots too (GmbCompactBounds::knotRelative × 2^knot): levels 1 to 6 keep each knot within
 // 2^-10 of the smallest interval, which moves a patch edge's tangent by at most 0.1 %.
 struct GmbCompactShifts {
     int position = 0, color = 0, positionTangent = 0, colorTangent = 0, knot = 0;
