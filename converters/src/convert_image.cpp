@@ -73,12 +73,18 @@ std::string regionLabel(const Region& region) {
 }
 
 namespace {
-// Everything up to the grid whose boundary follows the outline, for one choice of corners.
-struct RegionGeometry {
-    RegionCorners corners;
+// The budget-independent stages for one choice of corners (kept by RegionMapCache).
+struct RegionMaps {
+    std::array<int, 4> corners{};
     TriMesh tri;
     TopologyMap topo;
     FeatureMap feature;
+};
+
+// Everything up to the grid whose boundary follows the outline, for one choice of corners.
+struct RegionGeometry {
+    RegionCorners corners;
+    std::shared_ptr<const RegionMaps> maps;  // the grid builder refers to its triangulation
     std::unique_ptr<GridBuilder> grid;
     GridOptions go;
     BoundaryFitResult fitted;
@@ -100,13 +106,6 @@ void coverOutline(const GridBuilder& grid, GridOptions& go, BoundaryFitResult& f
     fitted.maxDeviation = outlineDeviation(grid, grid.build(go));
 }
 
-// The budget-independent stages for one choice of corners (RegionMapCache).
-struct RegionMaps {
-    std::array<int, 4> corners{};
-    TriMesh tri;
-    TopologyMap topo;
-    FeatureMap feature;
-};
 }  // namespace
 
 struct RegionMapCache::Impl {
@@ -134,34 +133,33 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
                                               RegionMapCache* cache) {
     auto g = std::make_unique<RegionGeometry>();
     g->corners = corners;
-    if (const auto kept = cache ? cache->impl().find(corners.index) : nullptr) {
-        g->tri = kept->tri;
-        g->topo = kept->topo;
-        g->feature = kept->feature;
-    } else {
+    g->maps = cache ? cache->impl().find(corners.index) : nullptr;
+    if (!g->maps) {
+        auto maps = std::make_shared<RegionMaps>();
+        maps->corners = corners.index;
         TriangulateOptions to;
         // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
         // 4096² object needs no finer triangulation than a 1024² one.
         to.sampleFraction = std::min(options.sampleFraction,
                                      double(options.maxSamples) / std::max(1, region.pixelCount));
         auto t0 = Clock::now();
-        g->tri = triangulateRegion(image, region, corners, to);
+        maps->tri = triangulateRegion(image, region, corners, to);
         g->seconds.triangulate = since(t0);
         t0 = Clock::now();
-        g->topo = buildTopologyMapRefining(g->tri, corners.px, corners.py);
+        maps->topo = buildTopologyMapRefining(maps->tri, corners.px, corners.py);
         g->seconds.topology = since(t0);
 
         t0 = Clock::now();
         FeatureMapOptions fo;
         fo.mask = &region.mask;  // the outline against the background is not a feature
-        g->feature = buildFeatureMap(g->tri, g->topo.map, image, fo);
+        maps->feature = buildFeatureMap(maps->tri, maps->topo.map, image, fo);
         g->seconds.feature = since(t0);
-        if (const int flips = countFlippedTriangles(g->tri, g->feature.map); flips != 0)
+        if (const int flips = countFlippedTriangles(maps->tri, maps->feature.map); flips != 0)
             throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
-        if (cache)
-            cache->impl().keep(std::make_shared<const RegionMaps>(
-                RegionMaps{corners.index, g->tri, g->topo, g->feature}));
+        g->maps = std::move(maps);
+        if (cache) cache->impl().keep(g->maps);
     }
+    const RegionMaps& maps = *g->maps;
 
     auto t0 = Clock::now();
     // The initial grid takes at most a quarter of the patch budget: the rest is for the
@@ -170,7 +168,7 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     base.targetPatchSize =
         std::max(options.targetPatchSize,
                  std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
-    for (const SlitInfo& slit : g->topo.slits) base.slits.push_back({slit.v, slit.u0, slit.u1});
+    for (const SlitInfo& slit : maps.topo.slits) base.slits.push_back({slit.v, slit.u0, slit.u1});
     BoundaryFitOptions bf;
     bf.maxPatches = options.maxPatches;
     bf.tolerance = options.outlineTolerance;
@@ -182,7 +180,7 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
         int folded = 0;
     };
     auto candidate = [&](const ParamMap& map) {
-        Candidate c{std::make_unique<GridBuilder>(g->tri, map), base, {}, 0};
+        Candidate c{std::make_unique<GridBuilder>(maps.tri, map), base, {}, 0};
         c.fitted = fitBoundary(*c.grid, c.go, bf);
         coverOutline(*c.grid, c.go, c.fitted, options.outlineCover, options.outlineTolerance);
         c.folded = countFoldedPatches(c.grid->build(c.go));
@@ -195,10 +193,10 @@ std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Regi
     // otherwise (regions converted in parallel).
     std::future<Candidate> topology;
     if (options.threads != 1 && std::thread::hardware_concurrency() > 1)
-        topology = std::async(std::launch::async, candidate, std::cref(g->topo.map));
-    Candidate best = candidate(g->feature.map);
+        topology = std::async(std::launch::async, candidate, std::cref(maps.topo.map));
+    Candidate best = candidate(maps.feature.map);
     if (best.folded > 0) {
-        Candidate other = topology.valid() ? topology.get() : candidate(g->topo.map);
+        Candidate other = topology.valid() ? topology.get() : candidate(maps.topo.map);
         if (other.folded < best.folded) {
             best = std::move(other);
             g->featureMapUsed = false;
@@ -257,10 +255,10 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
             }
         }
     }
-    rr.triangles = static_cast<int>(g->tri.triangles.size());
-    rr.vertices = static_cast<int>(g->tri.vertices.size());
-    rr.mapRefinedVertices = g->topo.stats.refinedVertices;
-    rr.featureSolves = g->feature.solves;
+    rr.triangles = static_cast<int>(g->maps->tri.triangles.size());
+    rr.vertices = static_cast<int>(g->maps->tri.vertices.size());
+    rr.mapRefinedVertices = g->maps->topo.stats.refinedVertices;
+    rr.featureSolves = g->maps->feature.solves;
     rr.flippedTriangles = 0;
     rr.outlineDeviation = g->fitted.maxDeviation;
     rr.outlineKnots = g->fitted.addedU + g->fitted.addedV;
