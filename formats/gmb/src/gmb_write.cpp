@@ -357,8 +357,8 @@ GmbCompactShifts gmbCompactShifts(int level) {
         case 2: return {2, 1, 3, 3, 12};
         case 3: return {3, 2, 3, 4, 12};
         case 4: return {4, 3, 4, 5, 12};
-        case 5: return {5, 3, 5, 6, 12};
-        case 6: return {5, 4, 5, 7, 12};
+        case 5: return {5, 3, 5, 6, 17};
+        case 6: return {5, 4, 5, 7, 17};
         default:
             throw Error("compact level " + std::to_string(level) + " is not one of 0 to " +
                         std::to_string(kGmbMaxCompactLevel));

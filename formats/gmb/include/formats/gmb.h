@@ -53,14 +53,17 @@ struct GmbCompactBounds {
 // from gmbCompactShifts(L). Every file states its grids, so any reader of its version reads
 // every level.
 // fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and ~15 %
-// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 74 %, 6 -5.8 dB
+// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 75 %, 6 -5.7 dB
 // / 81 %; 4 and 5 suit small, coarse meshes, where they cost little (fruits at 10 patches a
 // region: -0.2 and -0.5 dB). 6 is 5 with colours and colour slopes on grids twice as coarse:
-// for flat-coloured drawings (HappyFish at 10 patches a region: 11 % fewer bytes than 5 for
-// -0.4 dB); on photos it costs more (fruits at 4 a region: 9 % for -1.3 dB).
+// for flat-coloured drawings (HappyFish at 10 patches a region: 12 % fewer bytes than 5 for
+// -0.4 dB); on photos it costs more (fruits at 4 a region: 10 % for -1.4 dB).
 constexpr int kGmbMaxCompactLevel = 6;
-// Knots too (GmbCompactBounds::knotRelative × 2^knot): levels 1 to 6 keep each knot within
-// 2^-10 of the smallest interval, which moves a patch edge's tangent by at most 0.1 %.
+// Knots too (GmbCompactBounds::knotRelative × 2^knot): levels 1 to 4 keep each knot within
+// 2^-10 of the smallest interval, which moves a patch edge's tangent by at most 0.2 %; levels 5
+// and 6 within 2^-5, at most 6 % (on the smallest patches; less on larger ones). Small meshes
+// pay most for their knots: on HappyFish at 10 patches a region, 2^-5 saves 3 % of the file
+// (1,499 -> 1,455 B at level 6) for +0.04 dB; fruits at 4 a region 2 % for +0.01 dB.
 struct GmbCompactShifts {
     int position = 0, color = 0, positionTangent = 0, colorTangent = 0, knot = 0;
 };
