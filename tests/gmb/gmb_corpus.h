@@ -1,4 +1,4 @@
-// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 to 1.3 and
+// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 to 1.4 and
 // the malformed corpus, each with the message its reading must produce. Only IEEE-exact
 // arithmetic (no libm calls but exact ones: frexp, ldexp, llround), so that the same bytes come
 // out on every platform.
@@ -8,9 +8,10 @@
 // The golden files of earlier versions are not regenerated (today's writer writes the newest
 // version); the malformed cases built from a compressed 1.0 section read golden-1.0-compact.gmb,
 // those built from a 1.1 NODE of encoding 2 read golden-1.1-compact.gmb, those built from CMSH
-// sections read golden-1.2-compact.gmb and golden-1.2-compact-mixed.gmb. The 1.3 files
-// (golden-1.3-compact.gmb: goldenCompact11; golden-1.3-compact-mixed.gmb: goldenMixed12) are
-// today's writer's output at level 0.
+// sections read golden-1.2-compact.gmb and golden-1.2-compact-mixed.gmb, those built from CMS2
+// sections golden-1.3-compact.gmb (the 1.3 writer's goldenCompact11). The 1.4 files
+// (golden-1.4-compact.gmb: goldenCompact11; golden-1.4-compact-mixed.gmb: goldenMixed12) are
+// today's writer's output at level 0 with CMS3 asked for (GmbStreams::Cms3).
 #pragma once
 
 #include <cmath>
@@ -217,30 +218,46 @@ inline std::vector<SpecCmshMesh> cmshRecords(const std::string& file) {
     return out;
 }
 
-// Every mesh of every CMSH or CMS2 section of a file, in order (spec decoding).
+// Every mesh of every CMSH, CMS2 or CMS3 section of a file, in order (spec decoding).
 inline std::vector<SpecCmshMesh> compactRecords(const std::string& file) {
     std::vector<SpecCmshMesh> out;
     for (const SectionInfo& i : listSections(file)) {
         const std::string payload = file.substr(i.payload(), static_cast<size_t>(i.stored));
         std::vector<SpecCmshMesh> meshes;
         if (i.tag == "CMSH") meshes = specDecodeCmsh(payload);
-        if (i.tag == "CMS2") meshes = specDecodeCms2(payload);
+        if (i.tag == "CMS2" || i.tag == "CMS3") meshes = specDecodeCms2(payload, i.tag == "CMS3");
         for (SpecCmshMesh& m : meshes) out.push_back(std::move(m));
     }
     return out;
 }
 
-// The same file in the 1.2 layout: each CMS2 section as a CMSH section with the same weights,
+// The same file in the 1.2 layout: each CMS2 or CMS3 section as a CMSH section with the same weights,
 // residuals, knots, slits and breaks (spec encoding). It holds the same document, so its size
 // is what CMSH costs for the very same data.
 inline std::string cms2AsCmsh(const std::string& file) {
     std::string s = fileHeader(1, 2);
     for (const SectionInfo& i : listSections(file)) {
-        if (i.tag != "CMS2") {
+        if (i.tag != "CMS2" && i.tag != "CMS3") {
             s += file.substr(i.offset, i.end() - i.offset);
             continue;
         }
-        s += section("CMSH", specCms2AsCmsh(file.substr(i.payload(), static_cast<size_t>(i.stored))));
+        s += section("CMSH", specCms2AsCmsh(file.substr(i.payload(), static_cast<size_t>(i.stored)),
+                                            i.tag == "CMS3"));
+    }
+    return s;
+}
+
+// The same file in the 1.3 layout: each CMS3 section as a CMS2 section with the same integers
+// (spec encoding). It holds the same document, so its size is what CMS2 costs for the very
+// same data.
+inline std::string cms3AsCms2(const std::string& file) {
+    std::string s = fileHeader(1, 3);
+    for (const SectionInfo& i : listSections(file)) {
+        if (i.tag != "CMS3") {
+            s += file.substr(i.offset, i.end() - i.offset);
+            continue;
+        }
+        s += section("CMS2", specCms3AsCms2(file.substr(i.payload(), static_cast<size_t>(i.stored))));
     }
     return s;
 }
@@ -508,7 +525,7 @@ inline std::vector<Malformed> malformedCorpus() {
                    "CMSH holds 3 meshes, but the document has only 2 more"});
     out.push_back({"cmsh-fewer-meshes-than-declared.gmb",
                    withCmsh(cmsh, varint(1) + payload.substr(1, records[1].start - 1)),
-                   "section END  out of place: expected MESH, CMSH or CMS2"});
+                   "section END  out of place: expected MESH, CMSH, CMS2 or CMS3"});
     // 25 meshes declared (DOCU too): 16 bytes each at least, more than the payload holds.
     out.push_back({"cmsh-records-beyond-payload.gmb",
                    withCmsh(edit(cmsh, "DOCU", 0, 32, 25, 4), varint(25) + payload.substr(1)),
@@ -569,8 +586,8 @@ inline std::vector<Malformed> malformedCorpus() {
                        "plane weight 40256 out of range in section CMSH (mesh 1)"});
     }
 
-    // CMS2 sections (version 1.3): the writer's goldenCompact11, one CMS2 of both meshes.
-    const std::string cms2 = gm::encodeGmb(goldenCompact11(), true);
+    // CMS2 sections (version 1.3): the 1.3 writer's goldenCompact11, one CMS2 of both meshes.
+    const std::string cms2 = readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.3-compact.gmb");
     const SectionInfo cms2Info = findSection(cms2, "CMS2");
     const std::string cms2Payload = cms2.substr(cms2Info.payload(), static_cast<size_t>(cms2Info.stored));
     const size_t streamAt = 7;  // M and the six exponents: one byte each here
@@ -667,13 +684,42 @@ inline std::vector<Malformed> malformedCorpus() {
                        w.S(W::TangentValue, 1);
                    }),
                    "tangent break 0 names a corner outside the grid in section CMS2 (mesh 0)"});
+
+    // CMS3 sections (version 1.4): the writer's goldenCompact11, one CMS3 of both meshes. They
+    // share CMS2's parsing; these cases check that the tag gets its own checks and names.
+    const std::string cms3 = gm::encodeGmb(goldenCompact11(), true, 0, gm::GmbStreams::Cms3);
+    const SectionInfo cms3Info = findSection(cms3, "CMS3");
+    const std::string cms3Payload = cms3.substr(cms3Info.payload(), static_cast<size_t>(cms3Info.stored));
+    auto withCms3 = [&](const std::string& p) { return withPayload(cms3, "CMS3", 0, p); };
+    {
+        std::string s = cms3;
+        setLE(s, 10, 3, 2);
+        out.push_back({"cms3-in-version-1.3.gmb", s, "section CMS3 needs format version 1.4 (the file says 1.3)"});
+    }
+    out.push_back({"cms3-compressed.gmb", edit(cms3, "CMS3", 0, 5, 2, 1),
+                   "section CMS3 must be stored (codec 0), not codec 2"});
+    out.push_back({"cms3-more-meshes-than-declared.gmb", withCms3(varint(3) + cms3Payload.substr(1)),
+                   "CMS3 holds 3 meshes, but the document has only 2 more"});
+    out.push_back({"cms3-fewer-meshes-than-declared.gmb", withCms3(varint(1) + cms3Payload.substr(1)),
+                   "unexpected bytes at the end of the CMS3 payload"});
+    out.push_back({"cms3-trailing-bytes.gmb", withCms3(cms3Payload + std::string(3, '\0')),
+                   "3 unexpected bytes at the end of the CMS3 payload"});
+    out.push_back({"cms3-truncated-stream.gmb", withCms3(cms3Payload.substr(0, cms3Payload.size() - 2)),
+                   "truncated"});
+    {
+        std::string p = cms3Payload;
+        p[2] = 80;  // e_posU (zigzag 80: 40), against e_pos -5 and e_knot
+        out.push_back({"cms3-exponent-out-of-range.gmb", withCms3(p),
+                       "derivative quantisation exponent 40 out of range (knot exponent -23, value exponent -5) "
+                       "in section CMS3 (mesh 0)"});
+    }
     return out;
 }
 
 // The crafted CMS2 mesh of the malformed cases with nothing wrong: a 2x1 mesh, colours by the
 // rule, a tangent break at patch (1, 0). It must read.
 inline std::string craftedSoundCms2() {
-    const std::string cms2 = gm::encodeGmb(goldenCompact11(), true);
+    const std::string cms2 = readFile(std::string(GRADMESH_TEST_DATA) + "/gmb/golden-1.3-compact.gmb");
     const SectionInfo info = findSection(cms2, "CMS2");
     const std::string payload = cms2.substr(info.payload(), static_cast<size_t>(info.stored));
     using W = SpecCms2Writer;

@@ -76,7 +76,7 @@ TEST_CASE("inputs that once crashed the reader are refused or read cleanly", "[m
 TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]") {
     for (bool compact : {false, true}) {
         const std::string full = gm::encodeGmb(gmbtest::goldenCompact(), compact);
-        if (compact) CHECK(gmbtest::listSections(full)[1].tag == "CMS2");
+        if (compact) CHECK(gmbtest::listSections(full)[1].tag.substr(0, 3) == "CMS");
         INFO((compact ? "compact, " : "lossless, ") << full.size() << " bytes");
         for (size_t n = 0; n < full.size(); ++n) {
             INFO("cut at " << n);
@@ -86,56 +86,71 @@ TEST_CASE("a file truncated at every byte is refused as truncated", "[malformed]
     }
 }
 
-TEST_CASE("a CMS2 file truncated at every byte is refused", "[malformed]") {
-    // Two CMS2 runs around a float64 mesh; cut anywhere, and also with the cut section's sizes
-    // and CRC made to fit (so that the stream itself ends early).
-    const std::string full = gm::encodeGmb(gmbtest::goldenMixed12(), true);
-    for (size_t n = 0; n < full.size(); ++n) {
-        INFO("cut at " << n);
-        CHECK_THAT(decodeError(full.substr(0, n)), Contains(n == 0 ? "empty file" : "truncated"));
-    }
-    for (int nth : {0, 1}) {
-        const gmbtest::SectionInfo cms2 = gmbtest::findSection(full, "CMS2", nth);
-        const std::string payload = full.substr(cms2.payload(), static_cast<size_t>(cms2.stored));
-        for (size_t n = 0; n < payload.size(); ++n) {
-            INFO("CMS2 " << nth << " payload cut at " << n);
-            CHECK_THAT(decodeError(gmbtest::withPayload(full, "CMS2", nth, payload.substr(0, n))),
-                       Contains("CMS2") && Contains("truncated"));
+namespace {
+
+// Two runs of range-coded meshes around a float64 mesh (goldenMixed12), with their tag: the 1.3
+// file (CMS2) and today's writer's (CMS3).
+std::vector<std::pair<std::string, std::string>> streamFiles() {
+    return {{"CMS2", gmbtest::readFile(kDir + "golden-1.3-compact-mixed.gmb")},
+            {"CMS3", gm::encodeGmb(gmbtest::goldenMixed12(), true, 0, gm::GmbStreams::Cms3)}};
+}
+
+}  // namespace
+
+TEST_CASE("a CMS2 or CMS3 file truncated at every byte is refused", "[malformed]") {
+    // Cut anywhere, and also with the cut section's sizes and CRC made to fit (so that the
+    // stream itself ends early).
+    for (const auto& [tag, full] : streamFiles()) {
+        INFO(tag);
+        REQUIRE(gmbtest::listSections(full)[1].tag == tag);
+        for (size_t n = 0; n < full.size(); ++n) {
+            INFO("cut at " << n);
+            CHECK_THAT(decodeError(full.substr(0, n)), Contains(n == 0 ? "empty file" : "truncated"));
+        }
+        for (int nth : {0, 1}) {
+            const gmbtest::SectionInfo run = gmbtest::findSection(full, tag, nth);
+            const std::string payload = full.substr(run.payload(), static_cast<size_t>(run.stored));
+            for (size_t n = 0; n < payload.size(); ++n) {
+                INFO(tag << " " << nth << " payload cut at " << n);
+                CHECK_THAT(decodeError(gmbtest::withPayload(full, tag, nth, payload.substr(0, n))),
+                           Contains(tag) && Contains("truncated"));
+            }
         }
     }
 }
 
-TEST_CASE("every single-bit flip of a CMS2 section is refused or reads to a valid document",
+TEST_CASE("every single-bit flip of a CMS2 or CMS3 section is refused or reads to a valid document",
           "[malformed]") {
-    const std::string good = gm::encodeGmb(gmbtest::goldenMixed12(), true);
     int refused = 0, read = 0;
-    for (int nth : {0, 1}) {
-        const gmbtest::SectionInfo cms2 = gmbtest::findSection(good, "CMS2", nth);
-        for (size_t at = cms2.offset; at < cms2.end(); ++at)
-            for (int bit = 0; bit < 8; ++bit) {
-                INFO("byte " << at << " bit " << bit);
-                std::string s = good;
-                s[at] = static_cast<char>(s[at] ^ (1 << bit));
-                // As damaged (the CRC catches it), and behind a recomputed CRC when the framing
-                // still holds.
-                CHECK_THAT(decodeError(s), Contains("bad.gmb"));
-                if (at >= cms2.payload() && at < cms2.end() - 4) {
-                    gmbtest::fixCrc(s, cms2.offset);
-                    try {
-                        const gm::Document d = gm::decodeGmb(s, gm::ReadLimits{}, "flipped.gmb");
-                        CHECK(gm::validateDocument(d).empty());
-                        CHECK(gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{}) == d);
-                        ++read;
-                    } catch (const gm::Error& e) {
-                        CHECK(e.file() == "flipped.gmb");
-                        CHECK_THAT(e.what(), Contains("CMS2") || Contains("mesh "));
-                        CHECK_FALSE(e.where().empty());
-                        ++refused;
+    for (const auto& [tag, good] : streamFiles()) {
+        for (int nth : {0, 1}) {
+            const gmbtest::SectionInfo cms2 = gmbtest::findSection(good, tag, nth);
+            for (size_t at = cms2.offset; at < cms2.end(); ++at)
+                for (int bit = 0; bit < 8; ++bit) {
+                    INFO("byte " << at << " bit " << bit);
+                    std::string s = good;
+                    s[at] = static_cast<char>(s[at] ^ (1 << bit));
+                    // As damaged (the CRC catches it), and behind a recomputed CRC when the framing
+                    // still holds.
+                    CHECK_THAT(decodeError(s), Contains("bad.gmb"));
+                    if (at >= cms2.payload() && at < cms2.end() - 4) {
+                        gmbtest::fixCrc(s, cms2.offset);
+                        try {
+                            const gm::Document d = gm::decodeGmb(s, gm::ReadLimits{}, "flipped.gmb");
+                            CHECK(gm::validateDocument(d).empty());
+                            CHECK(gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{}) == d);
+                            ++read;
+                        } catch (const gm::Error& e) {
+                            CHECK(e.file() == "flipped.gmb");
+                            CHECK_THAT(e.what(), Contains(tag) || Contains("mesh "));
+                            CHECK_FALSE(e.where().empty());
+                            ++refused;
+                        }
                     }
                 }
-            }
+        }
     }
-    WARN("single-bit flips of CMS2 payloads: " << refused << " refused, " << read << " read");
+    WARN("single-bit flips of CMS2 and CMS3 payloads: " << refused << " refused, " << read << " read");
     CHECK(refused > 0);
 }
 
@@ -195,11 +210,15 @@ TEST_CASE("damaged range-coded nodes give an error or a valid document", "[malfo
         gmbtest::specDecodeCmsh(v12.substr(cmsh.payload(), static_cast<size_t>(cmsh.stored)));
     CHECK(damageRandomly(v12, cmsh.offset, cmsh.payload() + records[0].weightsAt, cmsh.end() - 4,
                          {"CMSH", "mesh 0: ", "mesh 1: "}) > 0);
-    // A CMS2 section (version 1.3), from its stream's first byte on.
-    const std::string v13 = gm::encodeGmb(gmbtest::goldenCompact11(), true);
+    // A CMS2 section (version 1.3) and a CMS3 section (1.4), from the stream's first byte on.
+    const std::string v13 = gmbtest::readFile(kDir + "golden-1.3-compact.gmb");
     const gmbtest::SectionInfo cms2 = gmbtest::findSection(v13, "CMS2");
     CHECK(damageRandomly(v13, cms2.offset, cms2.payload() + 7, cms2.end() - 4,
                          {"CMS2", "mesh 0: ", "mesh 1: "}) > 0);
+    const std::string v14 = gm::encodeGmb(gmbtest::goldenCompact11(), true, 0, gm::GmbStreams::Cms3);
+    const gmbtest::SectionInfo cms3 = gmbtest::findSection(v14, "CMS3");
+    CHECK(damageRandomly(v14, cms3.offset, cms3.payload() + 7, cms3.end() - 4,
+                         {"CMS3", "mesh 0: ", "mesh 1: "}) > 0);
 }
 
 TEST_CASE("counts that would need terabytes are refused before allocating", "[malformed]") {
@@ -246,7 +265,7 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
         big.meshes[0].nodes[k].pos = {double(k % 301) / 3, double(k / 301) / 3};
     const std::string bomb = gm::encodeGmb(big, true);
     CHECK(bomb.size() < 20000);
-    REQUIRE(gmbtest::findSection(bomb, "CMS2").stored > 0);
+    REQUIRE(gmbtest::listSections(bomb)[1].tag.substr(0, 3) == "CMS");
     CHECK_THAT(decodeError(bomb, budget), Contains("decoded data would exceed the limit of 100000 bytes"));
     // A CMSH record of 4000x4000 patches (9 planes: 144 M values) with its 8002 knots but a
     // 5-byte stream: such a stream cannot hold that many values (each costs a fraction of a

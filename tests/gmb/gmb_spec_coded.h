@@ -1,5 +1,6 @@
 // An independent reading of the NODE payload of encoding 2 (range-coded), of CMSH sections
-// (version 1.2) and of CMS2 sections (version 1.3), written from the specification at the top of formats/gmb/src/gmb_format.cpp
+// (version 1.2), of CMS2 sections (version 1.3) and of CMS3 sections (version 1.4), written
+// from the specification at the top of formats/gmb/src/gmb_format.cpp
 // rather than from the reader: the tests decode the writer's files with it (so the spec is
 // enough to write a decoder), and build range-coded payloads that the writer never produces
 // (malformed cases).
@@ -65,6 +66,44 @@ struct SpecModel {
 struct SpecPlaneModels {
     SpecModel zero[16], sign[16], length[16][24], top[64];
 };
+
+// CMS3: the model set P0..P6 of each node-record component, and the priors of each set (the
+// spec's tables, units of 2^-12): zero[x], then length[d].
+static const int kSpecCms3Set[15] = {0, 1, 2, 2, 2, 2, 3, 4, 3, 5, 6, 5, 5, 6, 5};
+static const uint32_t kSpecCms3Zero[7][16] = {
+    {2884, 1640, 2116, 2487, 3169, 3578, 3713, 3740, 3858, 3925, 3925, 3925, 4020, 4020, 4020, 4020},
+    {2155, 1451, 1770, 1958, 2597, 3363, 3543, 3677, 3762, 3762, 3762, 3762, 3762, 3762, 3762, 3762},
+    {776, 1010, 1724, 2355, 3044, 3450, 3635, 3766, 3919, 4000, 4000, 4000, 4000, 4000, 4000, 4000},
+    {85, 535, 710, 1806, 2299, 2965, 3380, 3416, 3416, 3416, 3416, 3416, 3416, 3416, 3416, 3416},
+    {1852, 1664, 2765, 2873, 3321, 3524, 3736, 3802, 3982, 3982, 3982, 3982, 3982, 3982, 3982, 3982},
+    {191, 593, 894, 1621, 2223, 2660, 2910, 3120, 3296, 3521, 3521, 3521, 3521, 3521, 3521, 3521},
+    {1054, 1290, 1948, 2456, 3056, 3450, 3718, 3882, 3882, 3959, 4036, 4036, 4036, 4036, 4036, 4036}};
+static const uint32_t kSpecCms3Length[7][10] = {
+    {3292, 1509, 1627, 1961, 2525, 3097, 3434, 3599, 3812, 3947},
+    {2904, 1912, 1912, 1912, 2236, 2843, 3326, 3595, 3788, 3891},
+    {2024, 1191, 1285, 1721, 2401, 3066, 3489, 3754, 3908, 3941},
+    {1197, 601, 735, 807, 1407, 2310, 2836, 3439, 3789, 3893},
+    {2665, 1319, 1353, 1775, 2541, 3163, 3532, 3775, 3905, 3993},
+    {379, 333, 418, 655, 1361, 2176, 2992, 3542, 3799, 3941},
+    {1525, 1057, 1299, 1744, 2395, 3052, 3480, 3780, 3912, 4046}};
+
+// The 7 residual model sets of a CMS3 stream as they start.
+inline std::vector<SpecPlaneModels> specCms3Start() {
+    std::vector<SpecPlaneModels> sets(7);
+    for (int g = 0; g < 7; ++g)
+        for (int x = 0; x < 16; ++x) {
+            SpecModel& z = sets[g].zero[x];
+            z.A = z.B = 16 * kSpecCms3Zero[g][x];
+            z.c = 4;
+            for (int k = 0; k < 24; ++k) {
+                const int d = x - k < 0 ? 0 : (x - k > 9 ? 9 : x - k);
+                SpecModel& l = sets[g].length[x][k];
+                l.A = l.B = 16 * kSpecCms3Length[g][d];
+                l.c = 4;
+            }
+        }
+    return sets;
+}
 
 class SpecRangeDecoder {
 public:
@@ -257,12 +296,14 @@ inline int specContext(const std::vector<int64_t>& r, int64_t S, int C, int i, i
 static const int kSpecSibling[15] = {-1, 0, -1, 2, -1, 4, 7, -1, 7, 10, -1, 10, 13, -1, 13};
 
 // Decodes the planes of one mesh from `dec` to q (returned) and the residuals (`res`), both
-// indexed [component][node] in node-record order. `persistent`: the models of the 15 components
-// that a CMS2 stream keeps across meshes; null: fresh models for every plane (NODE, CMSH).
+// indexed [component][node] in node-record order. `persistent`: the models that a CMS2 or CMS3
+// stream keeps across meshes, component c's being persistent[setOf[c]] (setOf null: c);
+// null: fresh models for every plane (NODE, CMSH).
 // Throws std::runtime_error where the spec says the data is bad.
 inline std::vector<std::vector<int64_t>> specDecodePlanesWith(
     SpecRangeDecoder& dec, const SpecMeshInfo& in, const SpecWeights& w,
-    SpecPlaneModels* persistent, std::vector<std::vector<int64_t>>& r) {
+    SpecPlaneModels* persistent, std::vector<std::vector<int64_t>>& r,
+    const int* setOf = nullptr) {
     const int* order = kSpecOrder;
     const int* valueOf = kSpecValueOf;
     const int* sibling = kSpecSibling;
@@ -277,7 +318,7 @@ inline std::vector<std::vector<int64_t>> specDecodePlanesWith(
     for (int o = 0; o < in.F; ++o) {
         const int c = order[o];
         SpecPlaneModels fresh;
-        SpecPlaneModels& m = persistent ? persistent[c] : fresh;
+        SpecPlaneModels& m = persistent ? persistent[setOf ? setOf[c] : c] : fresh;
         for (int j = 0; j <= R; ++j) {
             for (int i = 0; i <= C; ++i) {
                 const int64_t S = sibling[c] >= 0 ? r[sibling[c]][at(i, j)] : 0;
@@ -478,10 +519,11 @@ struct SpecIntModels {
     SpecModel zero, sign, length[24], top[64];
 };
 
-// Decodes a CMS2 payload (version 1.3): every mesh's counts, knots, weights, node planes (q and
-// residuals), and its slits and tangent breaks, which it also lays out as CMSH would (`tail`).
-// Throws std::runtime_error where the spec says the data is bad.
-inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload) {
+// Decodes a CMS2 payload (version 1.3), or with `cms3` a CMS3 payload (1.4): every mesh's
+// counts, knots, weights, node planes (q and residuals), and its slits and tangent breaks,
+// which it also lays out as CMSH would (`tail`). Throws std::runtime_error where the spec says
+// the data is bad.
+inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload, bool cms3 = false) {
     SpecBytes bytes{payload};
     const uint64_t M = bytes.varint();
     if (M == 0) throw std::runtime_error("no mesh");
@@ -495,7 +537,8 @@ inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload) {
            SlitBelow, TangentIndex, TangentValue, Kinds };
     std::vector<SpecIntModels> kinds(Kinds);
     std::vector<SpecModel> weighted(15);
-    std::vector<SpecPlaneModels> planes(15);
+    // CMS2: the 15 planes' residual models; CMS3: the 7 sets, from their priors.
+    std::vector<SpecPlaneModels> planes = cms3 ? specCms3Start() : std::vector<SpecPlaneModels>(15);
     auto magnitude = [&](SpecIntModels& m) {
         int len = 0;
         while (len < 63 && dec.decision(m.length[len < 23 ? len : 23])) ++len;
@@ -559,7 +602,7 @@ inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload) {
                 if (x > 32768 || x < -32768) throw std::runtime_error("weight out of range");
         }
         m.weights = w;
-        m.q = specDecodePlanesWith(dec, m.info, w, planes.data(), m.r);
+        m.q = specDecodePlanesWith(dec, m.info, w, planes.data(), m.r, cms3 ? kSpecCms3Set : nullptr);
         const int endValues = m.byRule ? 2 : 5;
         for (int sl = 0; sl < m.slits; ++sl) {
             const uint64_t row = U(SlitIndex), i0 = U(SlitIndex), i1 = U(SlitIndex);
@@ -623,10 +666,72 @@ private:
     SpecPlaneModels planes_[15];
 };
 
-// The CMSH payload (version 1.2) of the meshes of a CMS2 payload: the same weights, residuals,
-// knots, slits and breaks, in CMSH's layout (every plane coded with fresh models, one stream
-// per mesh).
-inline std::string specCms2AsCmsh(const std::string& payload) {
+// The CMS2 payload (version 1.3) of the meshes of a CMS3 payload (1.4): the same integers (M,
+// exponents, counts, knots, weights, residuals, slits, breaks) in one CMS2 stream, whose
+// models start fresh and are one set per plane. Its size is what CMS2 costs for the very same
+// data.
+inline std::string specCms3AsCms2(const std::string& payload) {
+    SpecBytes head{payload};
+    head.varint();
+    for (int f = 1; f < 7; ++f) head.svarint();
+    using W = SpecCms2Writer;
+    W w;
+    for (const SpecCmshMesh& m : specDecodeCms2(payload, true)) {
+        const int C = m.info.C, R = m.info.R;
+        w.U(W::Size, static_cast<uint64_t>(C));
+        w.U(W::Size, static_cast<uint64_t>(R));
+        w.U(W::Count, static_cast<uint64_t>(m.slits));
+        w.U(W::Count, static_cast<uint64_t>(m.tangents));
+        w.U(W::Flags, m.byRule ? 1 : 0);
+        w.S(W::KnotExponent, m.info.e[0]);
+        for (const std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
+            w.S(W::KnotStart, knots->front());
+            for (size_t i = 1; i < knots->size(); ++i)
+                w.U(W::KnotStep, static_cast<uint64_t>((*knots)[i] - (*knots)[i - 1] - 1));
+        }
+        const SpecWeights d = specCmshDefaults();
+        for (int o = 0; o < m.info.F; ++o) {
+            const int stated = (m.weightsMask >> o) & 1;
+            w.weighted(o, stated);
+            if (!stated) continue;
+            const int c = kSpecOrder[o];
+            w.S(W::WeightDelta, m.weights.a[c] - d.a[c]);
+            if (kSpecValueOf[c] < 0) w.S(W::WeightDelta, m.weights.b[c] - d.b[c]);
+            w.S(W::WeightDelta, m.weights.s[c] - d.s[c]);
+        }
+        for (int o = 0; o < m.info.F; ++o) {
+            const int c = kSpecOrder[o];
+            for (int j = 0; j <= R; ++j)
+                for (int i = 0; i <= C; ++i) {
+                    const size_t k = static_cast<size_t>(j) * (C + 1) + i;
+                    const int64_t S = kSpecSibling[c] >= 0 ? m.r[kSpecSibling[c]][k] : 0;
+                    w.residual(c, specContext(m.r[c], S, C, i, j), m.r[c][k]);
+                }
+        }
+        // The slits and breaks, from their CMSH layout.
+        SpecBytes tail{m.tail};
+        const int endValues = m.byRule ? 2 : 5;
+        for (int sl = 0; sl < m.slits; ++sl) {
+            const uint64_t row = tail.varint(), i0 = tail.varint(), i1 = tail.varint();
+            for (uint64_t x : {row, i0, i1}) w.U(W::SlitIndex, x);
+            for (int x = 0; x < 2 * endValues; ++x) w.S(W::SlitEnd, tail.svarint());
+            for (uint64_t x = 0; x < (i1 - i0 - 1) * static_cast<uint64_t>(m.info.F); ++x)
+                w.S(W::SlitBelow, tail.svarint());
+        }
+        for (int t = 0; t < m.tangents; ++t) {
+            w.U(W::TangentIndex, tail.varint());
+            w.U(W::TangentIndex, tail.varint());
+            w.U(W::TangentIndex, static_cast<uint64_t>(tail.u8()));
+            for (int x = 0; x < endValues; ++x) w.S(W::TangentValue, tail.svarint());
+        }
+    }
+    return payload.substr(0, head.pos) + w.finish();
+}
+
+// The CMSH payload (version 1.2) of the meshes of a CMS2 (or, with `cms3`, CMS3) payload: the
+// same weights, residuals, knots, slits and breaks, in CMSH's layout (every plane coded with
+// fresh models, one stream per mesh).
+inline std::string specCms2AsCmsh(const std::string& payload, bool cms3 = false) {
     SpecBytes head{payload};
     head.varint();
     for (int f = 1; f < 7; ++f) head.svarint();
@@ -639,7 +744,7 @@ inline std::string specCms2AsCmsh(const std::string& payload) {
         s.push_back(static_cast<char>(z));
     };
     const SpecWeights d = specCmshDefaults();
-    for (const SpecCmshMesh& m : specDecodeCms2(payload)) {
+    for (const SpecCmshMesh& m : specDecodeCms2(payload, cms3)) {
         for (int x : {m.info.C, m.info.R, m.slits, m.tangents}) putVarint(out, static_cast<uint64_t>(x));
         out.push_back(m.byRule ? 1 : 0);
         putSvarint(out, m.info.e[0]);

@@ -1,4 +1,4 @@
-// .gmb — the native binary format of gradmesh, version 1.3. This comment is the specification.
+// .gmb — the native binary format of gradmesh, version 1.4. This comment is the specification.
 //
 // Conventions. Integers are little-endian and fixed-width unless called varint. f64 is an
 // IEEE 754 binary64 stored as its 8 bytes, little-endian. varint: unsigned LEB128, at most 10
@@ -11,14 +11,15 @@
 // Header, 12 bytes
 //    0   8  magic 89 47 4D 42 0D 0A 1A 0A ("\x89GMB\r\n\x1a\n")
 //    8   2  major version, 1. A reader refuses a major it does not know.
-//   10   2  minor version: 3 if the file has a CMS2 section, else 2 if it has a CMSH section
-//           (only 1.2 writers wrote those), else 1 if some MESH section says encoding 2, else 0
+//   10   2  minor version: 4 if the file has a CMS3 section, else 3 if it has a CMS2 section
+//           (only 1.3 writers wrote those), else 2 if it has a CMSH section (1.2 writers), else
+//           1 if some MESH section says encoding 2, else 0
 //           (a writer marks the lowest version that holds the file, so lossless files remain
 //           1.0 files). A newer minor may add optional sections, append fields to the DOCU and
 //           MESH payloads (a reader of an older minor skips both), add mesh encodings (an older
 //           reader refuses a mesh in an encoding it does not know: 1.0 readers refuse encoding
 //           2) and add required sections (an older reader refuses the file: 1.1 readers refuse
-//           CMSH, 1.2 readers CMS2, as unknown required sections).
+//           CMSH, 1.2 readers CMS2, 1.3 readers CMS3, as unknown required sections).
 //
 // Section, 28 + S bytes
 //    0   4  tag, four ASCII characters
@@ -38,9 +39,10 @@
 //     MESH KNOT NODE      always
 //     SLIT                if and only if the mesh has slits
 //     TANG                if and only if the mesh has corner tangent breaks
-//   or in a CMSH section (since 1.2) or a CMS2 section (since 1.3), each of which holds a run
-//   of one or more consecutive meshes in encoding 2; a file may mix them (a writer's compact
-//   mode writes CMS2 sections, and float64 MESH sections for meshes it cannot quantise)
+//   or in a CMSH section (since 1.2), a CMS2 section (since 1.3) or a CMS3 section (since 1.4),
+//   each of which holds a run of one or more consecutive meshes in encoding 2; a file may mix
+//   them (a writer's compact mode writes each run as CMS2 or CMS3, whichever is smaller, and
+//   float64 MESH sections for meshes it cannot quantise)
 //   END                   once, last, empty payload
 // Every section defined by 1.x is required (flags bit 0 clear).
 //
@@ -234,6 +236,43 @@
 //       then posU.x posU.y [colU.r colU.g colU.b] (TangentValue, signed): encoding 2's TANG
 //   A writer may choose any weights; the stream decodes to the same values whatever it chose.
 //
+// Compact meshes in one stream, CMS3 (since 1.4; the writer's compact mode writes a run as CMS3
+// when that is smaller than CMS2): a CMS2 section in every respect (payload, stream, meshes,
+// refusals) but for the residual models of its node planes, which are fewer and start from
+// priors. Files of converted images whose models have little to learn from gain most (HappyFish
+// whole at 10 patches a region, level 6: 5 % smaller than CMS2; fruits whole at the default
+// E 3, 0.2 %); meshes unlike converted images can be larger in CMS3. A reader refuses a CMS3
+// section in a file whose minor version is below 4.
+//   Residual models. 7 sets of zero[16], sign[16], length[16][24], top[64], each shared by the
+//   planes of one group (node-record components):
+//     P0 pos.x (0)                       P1 pos.y (1)
+//     P2 posU.x, posU.y, posV.x, posV.y (2-5)
+//     P3 col.r, col.b (6, 8)             P4 col.g (7)
+//     P5 colU.r, colU.b, colV.r, colV.b (9, 11, 12, 14)
+//     P6 colU.g, colV.g (10, 13)
+//   A residual is coded as in CMS2 (its context from the residuals of its own plane and its
+//   sibling's), with the models of its plane's group; so the planes of a group, in coding order,
+//   learn for each other as well as from mesh to mesh.
+//   Priors. At the start of the section, sign and top models are fresh (A = B = 32768, c = 0),
+//   and every zero[x] and length[x][k] model of set Pg starts with c = 4 and A = B = 16 · T,
+//   where T is zero[x] or length[d] of Pg below, d = min(max(x - k, 0), 9) (units of 2^-12;
+//   the rates of those decisions on typical files):
+//     P0 zero   2884 1640 2116 2487 3169 3578 3713 3740 3858 3925 3925 3925 4020 4020 4020 4020
+//        length 3292 1509 1627 1961 2525 3097 3434 3599 3812 3947
+//     P1 zero   2155 1451 1770 1958 2597 3363 3543 3677 3762 3762 3762 3762 3762 3762 3762 3762
+//        length 2904 1912 1912 1912 2236 2843 3326 3595 3788 3891
+//     P2 zero    776 1010 1724 2355 3044 3450 3635 3766 3919 4000 4000 4000 4000 4000 4000 4000
+//        length 2024 1191 1285 1721 2401 3066 3489 3754 3908 3941
+//     P3 zero     85  535  710 1806 2299 2965 3380 3416 3416 3416 3416 3416 3416 3416 3416 3416
+//        length 1197  601  735  807 1407 2310 2836 3439 3789 3893
+//     P4 zero   1852 1664 2765 2873 3321 3524 3736 3802 3982 3982 3982 3982 3982 3982 3982 3982
+//        length 2665 1319 1353 1775 2541 3163 3532 3775 3905 3993
+//     P5 zero    191  593  894 1621 2223 2660 2910 3120 3296 3521 3521 3521 3521 3521 3521 3521
+//        length  379  333  418  655 1361 2176 2992 3542 3799 3941
+//     P6 zero   1054 1290 1948 2456 3056 3450 3718 3882 3882 3959 4036 4036 4036 4036 4036 4036
+//        length 1525 1057 1299 1744 2395 3052 3480 3780 3912 4046
+//   The stream integers' models and weighted[0..14] are fresh, as in CMS2.
+//
 // Reading limits. Every count is checked against ReadLimits and against the bytes that remain
 // before anything is allocated. A section's declared N must fit its counts, and the sum of the
 // N of all sections may not exceed ReadLimits::maxFileBytes, a NODE in encoding 1 or 2
@@ -248,7 +287,7 @@
 // A range-coded stream of V values is more than 4 + V/11730 bytes long (every decision narrows
 // R to at most 1 - 31/2^16 of itself, and R >= 2^24 at the end): a reader refuses nodes whose
 // remaining bytes are fewer than V/16384 before allocating their planes.
-// A CMS2 section counts its N and, for each mesh, 8 bytes for each value it decodes to,
+// A CMS2 or CMS3 section counts its N and, for each mesh, 8 bytes for each value it decodes to,
 // charged as soon as the mesh's counts, flags and e_knot are decoded: F·(C+1)(R+1) node values,
 // 3 + 2E per slit and 3 + E per corner tangent break (E = 2 values per tangent when colour
 // derivatives are omitted, else 5); and F per below copy of a slit, charged once the slit's
@@ -257,12 +296,12 @@
 // still unread by the stream's decoder, a reader refuses, before allocating them, the knots
 // (V = C + R + 2), the node planes (V = F·(C+1)(R+1)), the slits (V = slits · (3 + 2E)), a slit's
 // below copies (V = F·(i1 - i0 - 1)) and the corner tangent breaks (V = breaks · (3 + E)).
-// A mesh of a CMS2 stream takes at least 57 decisions (C, R 2 each; the two counts, the flags,
+// A mesh of a CMS2 or CMS3 stream takes at least 57 decisions (C, R 2 each; the two counts, the flags,
 // e_knot, two knot starts and at least two steps 1 each; 9 weights decisions; 36 residuals), so
 // M meshes need more than 4 + M/206 bytes: a reader refuses M when fewer than M/256 bytes of the
-// payload remain after the exponents, and a 1.3 file whose DOCU declares more meshes than 256
-// times the bytes after DOCU (1.2 files: 16 bytes per mesh, the smallest CMSH record; 1.0 and
-// 1.1 files: 84, the smallest MESH KNOT NODE sections).
+// payload remain after the exponents, and a 1.3 or 1.4 file whose DOCU declares more meshes
+// than 256 times the bytes after DOCU (1.2 files: 16 bytes per mesh, the smallest CMSH record;
+// 1.0 and 1.1 files: 84, the smallest MESH KNOT NODE sections).
 #include <algorithm>
 
 #include "formats/atomic_file.h"

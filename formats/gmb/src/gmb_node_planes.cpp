@@ -336,19 +336,83 @@ double signedBits(IntegerModels& m, int64_t x) {
     return bits + magnitudeBits(m.length, m.top, absolute(x));
 }
 
+
+// CMS3 (gmb_format.cpp, "CMS3"): the residual models each plane (node-record component) codes
+// with, named by the first component that uses them; 7 sets in all.
+constexpr int kCms3Models[kNodeComponents] = {0, 1, 2, 2, 2, 2, 6, 7, 6, 9, 10, 9, 9, 10, 9};
+
+// The priors of CMS3's residual models, per set, in units of 2^-12 (a model starts with A = B =
+// 16 times its prior and c = kPriorCount): `zero[x]` for the decision r != 0 in context x, and
+// `length[d]` for the length decisions length[x][k], with d = min(max(x - k, 0), 9). Measured on
+// the bench's images converted whole at levels 0 to 6 and at budgets from 4 patches a region to
+// the defaults (38 files, each weighted alike): the rate of each decision, made monotone.
+struct ResidualPrior {
+    uint16_t zero[kContexts];
+    uint16_t length[10];
+};
+constexpr int kPriorCount = 4;
+constexpr struct {
+    int model;  // the first component of the set (kCms3Models)
+    ResidualPrior prior;
+} kCms3Priors[7] = {
+    {0,  // pos.x
+     {{2884, 1640, 2116, 2487, 3169, 3578, 3713, 3740, 3858, 3925, 3925, 3925, 4020, 4020, 4020, 4020},
+      {3292, 1509, 1627, 1961, 2525, 3097, 3434, 3599, 3812, 3947}}},
+    {1,  // pos.y
+     {{2155, 1451, 1770, 1958, 2597, 3363, 3543, 3677, 3762, 3762, 3762, 3762, 3762, 3762, 3762, 3762},
+      {2904, 1912, 1912, 1912, 2236, 2843, 3326, 3595, 3788, 3891}}},
+    {2,  // posU.x, posU.y, posV.x, posV.y
+     {{776, 1010, 1724, 2355, 3044, 3450, 3635, 3766, 3919, 4000, 4000, 4000, 4000, 4000, 4000, 4000},
+      {2024, 1191, 1285, 1721, 2401, 3066, 3489, 3754, 3908, 3941}}},
+    {6,  // col.r, col.b
+     {{85, 535, 710, 1806, 2299, 2965, 3380, 3416, 3416, 3416, 3416, 3416, 3416, 3416, 3416, 3416},
+      {1197, 601, 735, 807, 1407, 2310, 2836, 3439, 3789, 3893}}},
+    {7,  // col.g
+     {{1852, 1664, 2765, 2873, 3321, 3524, 3736, 3802, 3982, 3982, 3982, 3982, 3982, 3982, 3982, 3982},
+      {2665, 1319, 1353, 1775, 2541, 3163, 3532, 3775, 3905, 3993}}},
+    {9,  // colU.r, colU.b, colV.r, colV.b
+     {{191, 593, 894, 1621, 2223, 2660, 2910, 3120, 3296, 3521, 3521, 3521, 3521, 3521, 3521, 3521},
+      {379, 333, 418, 655, 1361, 2176, 2992, 3542, 3799, 3941}}},
+    {10,  // colU.g, colV.g
+     {{1054, 1290, 1948, 2456, 3056, 3450, 3718, 3882, 3882, 3959, 4036, 4036, 4036, 4036, 4036, 4036},
+      {1525, 1057, 1299, 1744, 2395, 3052, 3480, 3780, 3912, 4046}}},
+};
+
+void startFrom(BitModel& m, uint16_t prior) {
+    m.fast = m.slow = static_cast<uint16_t>(prior * 16);
+    m.seen = kPriorCount;
+}
+
 }  // namespace
 
-// All the models of a CMS2 stream (gmb_format.cpp, "CMS2"): fresh at the start of a section,
-// shared by its meshes.
+// All the models of a CMS2 or CMS3 stream (gmb_format.cpp, "CMS2", "CMS3"): set at the start of
+// a section, shared by its meshes.
 struct StreamModels {
     IntegerModels fields[kStreamFields];
     BitModel weighted[kNodeComponents];      // by position in the coding order
-    ResidualModels planes[kNodeComponents];  // by node-record component
+    ResidualModels planes[kNodeComponents];  // CMS2: by component; CMS3: the sets of kCms3Models
+    int modelOf[kNodeComponents];            // the set of planes[] a component codes with
+
+    explicit StreamModels(StreamKind kind) {
+        for (int c = 0; c < kNodeComponents; ++c)
+            modelOf[c] = kind == StreamKind::Cms3 ? kCms3Models[c] : c;
+        if (kind != StreamKind::Cms3) return;
+        for (const auto& set : kCms3Priors) {
+            ResidualModels& m = planes[set.model];
+            for (int x = 0; x < kContexts; ++x) {
+                startFrom(m.zero[x], set.prior.zero[x]);
+                for (int k = 0; k < kLengthModels; ++k)
+                    startFrom(m.length[x][k], set.prior.length[std::min(std::max(x - k, 0), 9)]);
+            }
+        }
+    }
+    ResidualModels& plane(int c) { return planes[modelOf[c]]; }
+    const ResidualModels& plane(int c) const { return planes[modelOf[c]]; }
 };
 
 namespace {
 
-// The weights of the planes of a CMS2 mesh (the defaults, or fitted weights where they save more
+// The weights of the planes of a CMS2 or CMS3 mesh (the defaults, or fitted weights where they save more
 // than they cost to state, estimated with the stream's models as they are when the mesh
 // begins) and the residuals they leave, plane by plane in node-record component order.
 void chooseWeights(const CodedGrid& g, const StreamModels& models,
@@ -381,8 +445,8 @@ void chooseWeights(const CodedGrid& g, const StreamModels& models,
         if (!fitWeights(features, q, isDerivative(c), kSibling[c] >= 0, fit) || fit == defaults)
             continue;
         for (size_t k = 0; k < n; ++k) trial[k] = q[k] - predictFrom(features[k], fit);
-        const double saved = planeBits(g, e, sibling, models.planes[c], *scratch) -
-                             planeBits(g, trial.data(), sibling, models.planes[c], *scratch);
+        const double saved = planeBits(g, e, sibling, models.plane(c), *scratch) -
+                             planeBits(g, trial.data(), sibling, models.plane(c), *scratch);
         BitModel yes = models.weighted[o], no = models.weighted[o];
         IntegerModels stated = deltas;
         double cost = decisionBits(yes, 1) - decisionBits(no, 0);
@@ -398,9 +462,9 @@ void chooseWeights(const CodedGrid& g, const StreamModels& models,
     }
 }
 
-// The residuals of the planes, in coding order. `models`: one set per node-record component.
+// The residuals of the planes, in coding order, with the stream's models.
 void encodePlanes(RangeEncoder& enc, const CodedGrid& g, const std::vector<int64_t>& residuals,
-                  ResidualModels* models) {
+                  StreamModels& models) {
     const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
     for (int o = 0; o < g.components; ++o) {
         const int c = kCodingOrder[o];
@@ -410,17 +474,16 @@ void encodePlanes(RangeEncoder& enc, const CodedGrid& g, const std::vector<int64
         for (int j = 0; j <= g.rows; ++j)
             for (int i = 0; i <= g.columns; ++i) {
                 const size_t k = static_cast<size_t>(j) * stride + static_cast<size_t>(i);
-                encodeResidual(enc, models[c], contextOf(e, sibling, i, j, g.columns, k, stride),
-                               e[k]);
+                encodeResidual(enc, models.plane(c),
+                               contextOf(e, sibling, i, j, g.columns, k, stride), e[k]);
             }
     }
 }
 
-// Fills g.planes from the residuals in `dec`, predicted with `weights`. `models`: one set per
-// node-record component that persists (CMS2), or null for fresh models in every plane (NODE
-// and CMSH).
+// Fills g.planes from the residuals in `dec`, predicted with `weights`. `models`: the stream's
+// models, which persist (CMS2, CMS3), or null for fresh models in every plane (NODE and CMSH).
 void decodePlanes(RangeDecoder& dec, ByteReader& r, CodedGrid& g,
-                  const Weights (&weights)[kNodeComponents], ResidualModels* models) {
+                  const Weights (&weights)[kNodeComponents], StreamModels* models) {
     const size_t n = g.nodes(), stride = static_cast<size_t>(g.columns) + 1;
     const int F = g.components;
     g.planes.assign(static_cast<size_t>(F) * n, 0);
@@ -431,7 +494,7 @@ void decodePlanes(RangeDecoder& dec, ByteReader& r, CodedGrid& g,
     if (!models) fresh = std::make_unique<ResidualModels>();
     for (int o = 0; o < F; ++o) {
         const int c = kCodingOrder[o];
-        ResidualModels& m = models ? models[c] : *fresh;
+        ResidualModels& m = models ? models->plane(c) : *fresh;
         if (!models) m = ResidualModels();
         const int64_t* sibling = kSibling[c] >= 0 ? head.data() : nullptr;
         const PlaneFeatures plane(g, c, sibling);
@@ -508,10 +571,10 @@ void decodeCodedNodes(ByteReader& r, CodedGrid& g, WeightLayout layout) {
     decodePlanes(dec, r, g, weights, nullptr);
 }
 
-// ---- CMS2 streams.
+// ---- CMS2 and CMS3 streams.
 
-CompactStreamWriter::CompactStreamWriter()
-    : models_(std::make_unique<StreamModels>()), enc_(std::make_unique<RangeEncoder>()) {}
+CompactStreamWriter::CompactStreamWriter(StreamKind kind)
+    : models_(std::make_unique<StreamModels>(kind)), enc_(std::make_unique<RangeEncoder>()) {}
 CompactStreamWriter::~CompactStreamWriter() = default;
 
 void CompactStreamWriter::putUnsigned(StreamField f, uint64_t x) {
@@ -543,14 +606,14 @@ void CompactStreamWriter::putNodes(const CodedGrid& g) {
         if (!isDerivative(c)) putSigned(StreamField::WeightDelta, int64_t(weights[c].b) - d.b);
         putSigned(StreamField::WeightDelta, int64_t(weights[c].s) - d.s);
     }
-    encodePlanes(*enc_, g, residuals, models_->planes);
+    encodePlanes(*enc_, g, residuals, *models_);
 }
 
 std::string CompactStreamWriter::finish() { return enc_->finish(); }
 
-CompactStreamReader::CompactStreamReader(ByteReader& reader)
+CompactStreamReader::CompactStreamReader(ByteReader& reader, StreamKind kind)
     : r_(reader),
-      models_(std::make_unique<StreamModels>()),
+      models_(std::make_unique<StreamModels>(kind)),
       dec_(std::make_unique<RangeDecoder>(reader)) {}
 CompactStreamReader::~CompactStreamReader() = default;
 
@@ -586,7 +649,7 @@ void CompactStreamReader::getNodes(CodedGrid& g) {
             *x = static_cast<int32_t>(v);
         }
     }
-    decodePlanes(*dec_, r_, g, weights, models_->planes);
+    decodePlanes(*dec_, r_, g, weights, models_.get());
 }
 
 }  // namespace gm::gmb

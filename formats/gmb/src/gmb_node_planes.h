@@ -55,10 +55,11 @@ enum class WeightLayout { Explicit, Masked };
 // more: only CMS2.)
 void decodeCodedNodes(ByteReader& reader, CodedGrid& grid, WeightLayout layout);
 
-// ---- CMS2 (version 1.3): one range-coded stream holds every mesh of the section.
+// ---- CMS2 (version 1.3) and CMS3 (1.4): one range-coded stream holds every mesh of the
+// section.
 
-// The kinds of integer coded in a CMS2 stream outside the node planes; each has its own models
-// (gmb_format.cpp, "CMS2").
+// The kinds of integer coded in a CMS2 or CMS3 stream outside the node planes; each has its own
+// models (gmb_format.cpp, "CMS2").
 enum class StreamField {
     Size,           // C, R
     Count,          // slit count, corner tangent break count
@@ -75,15 +76,20 @@ enum class StreamField {
 };
 constexpr int kStreamFields = 12;
 
-// All the adaptive models of a CMS2 stream: fresh at the start of a section, then shared by
-// all its meshes.
+// The two kinds of range-coded mesh stream: CMS2 (version 1.3), whose models all start fresh
+// and whose 15 planes each have their own residual models, and CMS3 (version 1.4), whose planes
+// share 7 sets of residual models that start from fixed priors (gmb_format.cpp, "CMS3").
+enum class StreamKind { Cms2, Cms3 };
+
+// All the adaptive models of a CMS2 or CMS3 stream: set at the start of a section, then shared
+// by all its meshes.
 struct StreamModels;
 class RangeEncoder;
 class RangeDecoder;
 
 class CompactStreamWriter {
 public:
-    CompactStreamWriter();
+    explicit CompactStreamWriter(StreamKind kind);
     ~CompactStreamWriter();
     void putUnsigned(StreamField f, uint64_t x);
     void putSigned(StreamField f, int64_t x);
@@ -98,11 +104,11 @@ private:
     std::unique_ptr<RangeEncoder> enc_;
 };
 
-// Reads a CMS2 stream from `reader`, which fails (naming file, section and byte) where it ends
-// early; the stream's first 5 bytes are read on construction.
+// Reads a CMS2 or CMS3 stream from `reader`, which fails (naming file, section and byte) where
+// it ends early; the stream's first 5 bytes are read on construction.
 class CompactStreamReader {
 public:
-    explicit CompactStreamReader(ByteReader& reader);
+    CompactStreamReader(ByteReader& reader, StreamKind kind);
     ~CompactStreamReader();
     uint64_t getUnsigned(StreamField f);
     // Fails for a magnitude of 2^63 or more.

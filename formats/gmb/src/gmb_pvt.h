@@ -18,7 +18,7 @@ namespace gm::gmb {
 // conversion, Ctrl-Z stops `type` on DOS.
 constexpr char kMagic[8] = {'\x89', 'G', 'M', 'B', '\r', '\n', '\x1a', '\n'};
 constexpr uint16_t kMajor = 1;
-constexpr uint16_t kMinor = 3;             // the newest minor this code reads and writes
+constexpr uint16_t kMinor = 4;             // the newest minor this code reads and writes
 constexpr size_t kFileHeaderSize = 12;     // magic, major, minor
 constexpr size_t kSectionHeaderSize = 24;  // tag, flags, codec, reserved, stored, raw
 constexpr size_t kCrcSize = 4;
@@ -29,8 +29,8 @@ constexpr uint8_t kSectionOptional = 0x01;  // a reader that does not know the t
 enum class Codec : uint8_t { Stored = 0, Deflate = 1, Zstd = 2 };
 
 // MESH section: how KNOT, NODE, SLIT and TANG of that mesh are encoded. The writer's compact
-// mode writes Coded meshes in CMS2 sections (since 1.3); Quantized (1.0), Coded in MESH (1.1)
-// and CMSH records (1.2) are only read.
+// mode writes Coded meshes in CMS2 or CMS3 sections (since 1.3 and 1.4); Quantized (1.0), Coded
+// in MESH (1.1) and CMSH records (1.2) are only read.
 enum class Encoding : uint8_t { Float64 = 0, Quantized = 1, Coded = 2 };
 constexpr uint8_t kMeshColorByRule = 0x01;  // colour derivatives omitted, recomputed by the rule
 

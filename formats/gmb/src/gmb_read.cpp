@@ -1,9 +1,11 @@
 // The .gmb reader (layout: gmb_format.cpp). Everything in the input is untrusted: each count is
 // checked against the limits and the bytes that remain before it sizes an allocation, and all
 // size arithmetic is 64-bit and saturating.
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 
 #include "formats/gmb.h"
 #include "gmb_node_planes.h"
@@ -29,7 +31,7 @@ constexpr uint64_t kDecodedBytesPerValue = 8;
 // A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp): a reader
 // refuses V values where fewer than V / 16384 bytes remain.
 constexpr uint64_t kValuesPerStreamByte = 16384;
-// A mesh of a CMS2 stream makes at least 57 binary decisions (gmb_format.cpp): M meshes need
+// A mesh of a CMS2 or CMS3 stream makes at least 57 binary decisions (gmb_format.cpp): M meshes need
 // more than M / 206 bytes, and a reader refuses M where fewer than M / 256 remain.
 constexpr uint64_t kStreamMeshesPerByte = 256;
 // The smallest float64 or 1.1 mesh: MESH, KNOT and NODE sections.
@@ -37,7 +39,7 @@ constexpr uint64_t kMinMeshSections = 3 * kSectionOverhead;
 
 bool isKnownTag(const std::string& t) {
     return t == "DOCU" || t == "MESH" || t == "KNOT" || t == "NODE" || t == "SLIT" ||
-           t == "TANG" || t == "CMSH" || t == "CMS2" || t == "END ";
+           t == "TANG" || t == "CMSH" || t == "CMS2" || t == "CMS3" || t == "END ";
 }
 
 // Tags may be any bytes in a hostile file; print them readably.
@@ -135,9 +137,8 @@ private:
         throw Error(what, file_, "byte " + std::to_string(at));
     }
     void readFileHeader();
-    // `orElse`, `orElse2`: other tags that may stand there instead.
-    Section next(const std::string& expected, const std::string& orElse = std::string(),
-                 const std::string& orElse2 = std::string());
+    // `tags`: the tags that may stand there (one or more).
+    Section next(std::initializer_list<const char*> tags);
     void open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decodedAtLeast = 0);
     void finish(const Payload& p, const Section& s) const;
 
@@ -216,11 +217,14 @@ void Decoder::readFileHeader() {
 
 // The next section the document structure expects, skipping optional sections this reader does
 // not know. The section's CRC has been checked; pos_ is past it.
-Section Decoder::next(const std::string& expected, const std::string& orElse,
-                      const std::string& orElse2) {
-    const std::string want = orElse.empty()    ? expected
-                             : orElse2.empty() ? expected + " or " + orElse
-                                               : expected + ", " + orElse + " or " + orElse2;
+Section Decoder::next(std::initializer_list<const char*> tags) {
+    std::string want;  // "A", "A or B", "A, B or C", ...
+    size_t k = 0;
+    for (const char* t : tags) {
+        if (k > 0) want += k + 1 == tags.size() ? " or " : ", ";
+        want += t;
+        ++k;
+    }
     for (;;) {
         const uint64_t left = bytes_.size() - pos_;
         if (left == 0) fail("truncated: the file ends before section " + want, pos_);
@@ -251,8 +255,7 @@ Section Decoder::next(const std::string& expected, const std::string& orElse,
             fail("CRC mismatch in section " + name + " (the file is damaged)", s.start);
         pos_ += covered + kCrcSize;
         if (isKnownTag(s.tag)) {
-            if (s.tag != expected && (orElse.empty() || s.tag != orElse) &&
-                (orElse2.empty() || s.tag != orElse2))
+            if (std::find(tags.begin(), tags.end(), s.tag) == tags.end())
                 fail("section " + name + " out of place: expected " + want, s.start);
             return s;
         }
@@ -544,14 +547,14 @@ GradientMesh Decoder::readSections(const MeshHeader& h) {
     const uint64_t F = static_cast<uint64_t>(h.components());
     const uint64_t perValue = f64 ? 8 : 10;  // a varint takes at most 10 bytes
     {
-        const Section s = next("KNOT");
+        const Section s = next({"KNOT"});
         Payload p;
         open(s, satMul(perValue, h.columns + h.rows + 2), p);
         readKnots(p.reader, h, m);
         finish(p, s);
     }
     {
-        const Section s = next("NODE");
+        const Section s = next({"NODE"});
         Payload p;
         if (h.encoding == Encoding::Coded) {
             // Weights (3 varints per plane), then at most 11 bits per binary decision of a
@@ -570,7 +573,7 @@ GradientMesh Decoder::readSections(const MeshHeader& h) {
         finish(p, s);
     }
     if (h.slits > 0) {
-        const Section s = next("SLIT");
+        const Section s = next({"SLIT"});
         // Row and columns, two end tangents and at most C-2 split nodes per slit.
         const uint64_t perSlit = satAdd(3 * perValue + 10 * perValue,
                                         satMul(h.columns - 1, satMul(perValue, F)));
@@ -580,7 +583,7 @@ GradientMesh Decoder::readSections(const MeshHeader& h) {
         finish(p, s);
     }
     if (h.tangents > 0) {
-        const Section s = next("TANG");
+        const Section s = next({"TANG"});
         Payload p;
         open(s, satMul(h.tangents, 4 * perValue + 2 + 5 * perValue), p);
         readTangents(p.reader, h, m);
@@ -598,7 +601,7 @@ void Decoder::addMesh(GradientMesh m, const MeshHeader& h, Document& doc) {
     doc.meshes.push_back(std::move(m));
 }
 
-// The start of a CMSH or CMS2 section (`tag`, since 1.`minor`): the section checked, its
+// The start of a CMSH, CMS2 or CMS3 section (`tag`, since 1.`minor`): the section checked, its
 // payload opened, the mesh count M (returned) and the shared exponents read.
 uint64_t Decoder::openMeshRun(const Section& s, const char* tag, int minor, uint64_t meshesLeft,
                               Payload& p, int (&shared)[kFieldCount]) {
@@ -681,20 +684,23 @@ void Decoder::charge(ByteReader& r, uint64_t bytes) {
                " bytes");
 }
 
-// A CMS2 section: a run of meshes in encoding 2 in one range-coded stream (version 1.3).
+// A CMS2 or CMS3 section: a run of meshes in encoding 2 in one range-coded stream (versions
+// 1.3 and 1.4; they differ only in their residual models).
 void Decoder::readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc) {
     Payload p;
     int shared[kFieldCount] = {};
-    const uint64_t count = openMeshRun(s, "CMS2", 3, meshesLeft, p, shared);
+    const bool cms3 = s.tag == "CMS3";
+    const char* tag = cms3 ? "CMS3" : "CMS2";
+    const uint64_t count = openMeshRun(s, tag, cms3 ? 4 : 3, meshesLeft, p, shared);
     ByteReader& r = p.reader;
     r.need(count / kStreamMeshesPerByte, std::to_string(count) + " range-coded meshes");
-    CompactStreamReader stream(r);
+    CompactStreamReader stream(r, cms3 ? StreamKind::Cms3 : StreamKind::Cms2);
     for (uint64_t k = 0; k < count; ++k) {
         meshName_ = "mesh " + std::to_string(doc.meshes.size());
-        r.rename("CMS2 (" + meshName_ + ")");
+        r.rename(std::string(tag) + " (" + meshName_ + ")");
         readStreamMesh(stream, r, shared, doc);
     }
-    r.rename("CMS2");
+    r.rename(tag);
     // The stream is exactly the bytes its decoder read: nothing may follow.
     finish(p, s);
 }
@@ -820,7 +826,7 @@ Document Decoder::run() {
     Document doc;
     uint64_t meshCount = 0;
     {
-        const Section s = next("DOCU");
+        const Section s = next({"DOCU"});
         Payload p;
         open(s, kMaxHeaderPayload, p);
         ByteReader& r = p.reader;
@@ -840,7 +846,7 @@ Document Decoder::run() {
                      std::to_string(limits_.maxMeshes),
                  s.start);
         const uint64_t left = bytes_.size() - pos_;
-        // A mesh of a CMS2 stream (1.3) may take less than a byte.
+        // A mesh of a CMS2 or CMS3 stream (1.3, 1.4) may take less than a byte.
         const uint64_t least = minor_ >= 3   ? meshCount / kStreamMeshesPerByte
                                : minor_ == 2 ? satMul(meshCount, kMinMeshRecord)
                                              : satMul(meshCount, kMinMeshSections);
@@ -854,12 +860,12 @@ Document Decoder::run() {
 
     while (doc.meshes.size() < meshCount) {
         meshName_ = "mesh " + std::to_string(doc.meshes.size());
-        const Section s = next("MESH", "CMSH", "CMS2");
+        const Section s = next({"MESH", "CMSH", "CMS2", "CMS3"});
         if (s.tag == "CMSH") {
             readCompactMeshes(s, meshCount - doc.meshes.size(), doc);
             continue;
         }
-        if (s.tag == "CMS2") {
+        if (s.tag == "CMS2" || s.tag == "CMS3") {
             readStreamMeshes(s, meshCount - doc.meshes.size(), doc);
             continue;
         }
@@ -873,7 +879,7 @@ Document Decoder::run() {
     }
     meshName_.clear();
 
-    const Section end = next("END ");
+    const Section end = next({"END "});
     if (end.stored != 0 || end.raw != 0) fail("the END section must be empty", end.start);
     if (pos_ != bytes_.size())
         fail(std::to_string(bytes_.size() - pos_) + " bytes after the END section", pos_);

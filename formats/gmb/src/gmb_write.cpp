@@ -52,7 +52,7 @@ private:
     ByteWriter w_;
 };
 
-// A mesh quantised for encoding 2, as a CMS2 stream codes it (version 1.3): everything but the
+// A mesh quantised for encoding 2, as a CMS2 or CMS3 stream codes it: everything but the
 // node planes as the integers the stream holds, in their order.
 struct CodedMesh {
     bool byRule = false;
@@ -71,14 +71,14 @@ struct CodedMesh {
 };
 
 // One mesh as float64 sections (MESH KNOT NODE [SLIT] [TANG]), or (`coded`) quantised for a
-// CMS2 section.
+// CMS2 or CMS3 section.
 struct MeshPayloads {
     std::string mesh, knot, node, slit, tang;
     bool coded = false;
     CodedMesh quantised;  // when coded
 };
 
-// The exponents a CMS2 section states once for all its meshes (all but the knots').
+// The exponents a CMS2 or CMS3 section states once for all its meshes (all but the knots').
 bool sameSharedExponents(const MeshPayloads& a, const MeshPayloads& b) {
     const int* x = a.quantised.grid.exponent;
     const int* y = b.quantised.grid.exponent;
@@ -231,7 +231,7 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2, quantised for a CMS2 section. False when some value does not fit the quantised
+// Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the quantised
 // grid (enormous coordinates, degenerate knot spacing); the caller then writes the mesh as
 // float64, always within bounds.
 bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
@@ -322,7 +322,7 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
     return true;
 }
 
-// One mesh of a CMS2 section, into the section's stream (gmb_format.cpp, "CMS2").
+// One mesh of a CMS2 or CMS3 section, into the section's stream (gmb_format.cpp, "CMS2").
 void writeStreamMesh(CompactStreamWriter& w, const CodedMesh& m) {
     const CodedGrid& g = m.grid;
     w.putUnsigned(StreamField::Size, static_cast<uint64_t>(g.columns));
@@ -365,7 +365,7 @@ GmbCompactShifts gmbCompactShifts(int level) {
     }
 }
 
-std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
+std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbStreams streams) {
     const GmbCompactShifts shift = gmbCompactShifts(compact ? compactLevel : 0);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
@@ -381,9 +381,10 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
     }
 
     SectionSink out;
-    // The lowest version that holds the file: lossless files stay readable by 1.0 readers, and
-    // only a file with a CMS2 section needs 1.3.
-    out.header(coded ? kMinor : 0);
+    // The lowest version that holds the file: lossless files stay readable by 1.0 readers, a
+    // file with CMS2 sections needs 1.3 and only one with a CMS3 section 1.4 (set at the end).
+    out.header(coded ? 3 : 0);
+    bool anyCms3 = false;
     ByteWriter docu;
     docu.u32(static_cast<uint32_t>(doc.width));
     docu.u32(static_cast<uint32_t>(doc.height));
@@ -394,18 +395,31 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
         const GradientMesh& m = doc.meshes[k];
         const MeshPayloads& p = meshes[k];
         if (p.coded) {
-            // One CMS2 for the run of coded meshes that share their exponents: their stream's
-            // models learn from mesh to mesh. Stored, as range-coded data does not compress.
+            // One CMS2 or CMS3 for the run of coded meshes that share their exponents: their
+            // stream's models learn from mesh to mesh. Stored, as range-coded data does not
+            // compress.
             size_t end = k + 1;
             while (end < meshes.size() && meshes[end].coded && sameSharedExponents(p, meshes[end]))
                 ++end;
-            ByteWriter cms2;
-            cms2.varint(end - k);
-            for (int f = kPos; f < kFieldCount; ++f) cms2.svarint(p.quantised.grid.exponent[f]);
-            CompactStreamWriter stream;
-            for (; k < end; ++k) writeStreamMesh(stream, meshes[k].quantised);
-            cms2.bytes(stream.finish());
-            out.add("CMS2", cms2.str(), false);
+            ByteWriter head;
+            head.varint(end - k);
+            for (int f = kPos; f < kFieldCount; ++f) head.svarint(p.quantised.grid.exponent[f]);
+            // The run's stream in CMS2 and in CMS3, as asked; the smaller by default (CMS3's
+            // priors suit converted images, CMS2's fresh models anything; a tie goes to CMS2,
+            // which 1.3 readers read too).
+            auto streamOf = [&](StreamKind kind) {
+                CompactStreamWriter stream(kind);
+                for (size_t r = k; r < end; ++r) writeStreamMesh(stream, meshes[r].quantised);
+                return stream.finish();
+            };
+            std::string cms2, cms3;
+            if (streams != GmbStreams::Cms3) cms2 = streamOf(StreamKind::Cms2);
+            if (streams != GmbStreams::Cms2) cms3 = streamOf(StreamKind::Cms3);
+            const bool useCms3 = streams == GmbStreams::Cms3 ||
+                                 (streams == GmbStreams::Smaller && cms3.size() < cms2.size());
+            out.add(useCms3 ? "CMS3" : "CMS2", head.str() + (useCms3 ? cms3 : cms2), false);
+            anyCms3 = anyCms3 || useCms3;
+            k = end;
             continue;
         }
         out.add("MESH", p.mesh, false);
@@ -416,7 +430,9 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel) {
         ++k;
     }
     out.add("END ", std::string(), false);
-    return out.take();
+    std::string bytes = out.take();
+    if (anyCms3) bytes[10] = static_cast<char>(kMinor);  // the minor version, little-endian
+    return bytes;
 }
 
 }  // namespace gm
