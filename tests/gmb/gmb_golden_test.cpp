@@ -152,22 +152,25 @@ TEST_CASE("golden 1.2 file mixing CMSH runs, a float64 mesh and rule colours rea
     CHECK(gm::followsColorRule(d.meshes[1]));
 }
 
-TEST_CASE("golden 1.3 compact file reads to its document exactly", "[golden][roundtrip]") {
-    const std::string bytes = golden("golden-1.3-compact.gmb");
-    CHECK(gmbtest::getLE(bytes, 10, 2) == 3);  // minor version
-    // DOCU, one CMS2 holding both meshes in one stream, END.
+namespace {
+
+// A golden file of goldenCompact11 in one range-coded run (`tag`: CMS2 or CMS3, file version
+// 1.`minor`): its layout, the spec decoder's reading, and values known independently of the
+// writer (the same quantisation as the 1.1 and 1.2 files). Returns the document.
+gm::Document checkStreamGolden(const std::string& name, const char* tag, int minor) {
+    const std::string bytes = golden(name);
+    CHECK(gmbtest::getLE(bytes, 10, 2) == static_cast<uint64_t>(minor));
+    // DOCU, one run holding both meshes in one stream, END.
     const auto sections = gmbtest::listSections(bytes);
     REQUIRE(sections.size() == 3);
-    CHECK(sections[1].tag == "CMS2");
+    CHECK(sections[1].tag == tag);
     CHECK(sections[1].codec == 0);
     CHECK(bytes[sections[1].payload()] == 2);  // M
     const auto meshes = gmbtest::compactRecords(bytes);  // the spec decoder
     REQUIRE(meshes.size() == 2);
     CHECK(meshes[0].slits == 1);
     CHECK(meshes[0].tangents == 2);
-    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.3-compact.gmb");
-    // The same values as the 1.1 and 1.2 files (same quantisation), known independently of the
-    // writer.
+    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, name);
     CHECK(d.meshes[0].node(5, 4).pos.x == 10 + 10.125 * 5 + 4 / 32.0);
     CHECK(d.meshes[0].node(0, 1).posU.x == 60 * 1048576.0 / 2097154.0);
     CHECK(d.meshes[0].node(4, 0).colU.r == 3 * 65536.0 / 8388610.0);
@@ -176,68 +179,47 @@ TEST_CASE("golden 1.3 compact file reads to its document exactly", "[golden][rou
     REQUIRE(d == gm::decodeGmb(golden("golden-1.2-compact.gmb"), gm::ReadLimits{}));
     // In the 1.2 layout, the same data is larger.
     CHECK(gmbtest::cms2AsCmsh(bytes).size() > bytes.size());
-    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+    return d;
 }
 
-TEST_CASE("golden 1.3 file mixing CMS2 runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
-    const std::string bytes = golden("golden-1.3-compact-mixed.gmb");
+// A golden file of goldenMixed12: two runs of `tag` around a float64 mesh.
+void checkMixedStreamGolden(const std::string& name, const char* tag) {
+    const std::string bytes = golden(name);
     std::vector<std::string> tags;
     for (const gmbtest::SectionInfo& i : gmbtest::listSections(bytes)) tags.push_back(i.tag);
-    CHECK(tags == std::vector<std::string>{"DOCU", "CMS2", "MESH", "KNOT", "NODE", "CMS2", "END "});
+    CHECK(tags == std::vector<std::string>{"DOCU", tag, "MESH", "KNOT", "NODE", tag, "END "});
     const auto meshes = gmbtest::compactRecords(bytes);
     REQUIRE(meshes.size() == 3);
     CHECK_FALSE(meshes[0].byRule);
     CHECK(meshes[1].byRule);
     CHECK(meshes[2].byRule);
-    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.3-compact-mixed.gmb");
+    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, name);
     REQUIRE(d == gmbtest::goldenMixed12());
     REQUIRE(d == gm::decodeGmb(golden("golden-1.2-compact-mixed.gmb"), gm::ReadLimits{}));
     CHECK(gm::followsColorRule(d.meshes[1]));
 }
 
+}  // namespace
+
+TEST_CASE("golden 1.3 compact file reads to its document exactly", "[golden][roundtrip]") {
+    const gm::Document d = checkStreamGolden("golden-1.3-compact.gmb", "CMS2", 3);
+    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+}
+
+TEST_CASE("golden 1.3 file mixing CMS2 runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
+    checkMixedStreamGolden("golden-1.3-compact-mixed.gmb", "CMS2");
+}
+
 TEST_CASE("golden 1.4 compact file reads to its document exactly", "[golden][roundtrip]") {
-    const std::string bytes = golden("golden-1.4-compact.gmb");
-    CHECK(gmbtest::getLE(bytes, 10, 2) == 4);  // minor version
-    // DOCU, one CMS3 holding both meshes in one stream, END.
-    const auto sections = gmbtest::listSections(bytes);
-    REQUIRE(sections.size() == 3);
-    CHECK(sections[1].tag == "CMS3");
-    CHECK(sections[1].codec == 0);
-    CHECK(bytes[sections[1].payload()] == 2);  // M
-    const auto meshes = gmbtest::compactRecords(bytes);  // the spec decoder
-    REQUIRE(meshes.size() == 2);
-    CHECK(meshes[0].slits == 1);
-    CHECK(meshes[0].tangents == 2);
-    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.4-compact.gmb");
-    // The same values as the 1.1 to 1.3 files (same quantisation), known independently of the
-    // writer.
-    CHECK(d.meshes[0].node(5, 4).pos.x == 10 + 10.125 * 5 + 4 / 32.0);
-    CHECK(d.meshes[0].node(0, 1).posU.x == 60 * 1048576.0 / 2097154.0);
-    CHECK(d.meshes[0].node(4, 0).colU.r == 3 * 65536.0 / 8388610.0);
-    CHECK(d.meshes[0].slits[0].left.posU.y == -16 * 1048576.0 / 2097154.0);
-    REQUIRE(d == gmbtest::goldenCompact11());
-    REQUIRE(d == gm::decodeGmb(golden("golden-1.3-compact.gmb"), gm::ReadLimits{}));
-    CHECK(gmbtest::cms2AsCmsh(bytes).size() > bytes.size());
-    CHECK(gm::encodeGmb(d, true, 0, gm::GmbStreams::Cms3) == bytes);
+    const gm::Document d = checkStreamGolden("golden-1.4-compact.gmb", "CMS3", 4);
+    CHECK(gm::encodeGmb(d, true, 0, gm::GmbStreams::Cms3) == golden("golden-1.4-compact.gmb"));
     // This synthetic document is one where CMS2 is smaller (CMS3's priors suit converted
     // images): by default the writer keeps that.
     CHECK(gmbtest::listSections(gm::encodeGmb(d, true))[1].tag == "CMS2");
 }
 
 TEST_CASE("golden 1.4 file mixing CMS3 runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
-    const std::string bytes = golden("golden-1.4-compact-mixed.gmb");
-    std::vector<std::string> tags;
-    for (const gmbtest::SectionInfo& i : gmbtest::listSections(bytes)) tags.push_back(i.tag);
-    CHECK(tags == std::vector<std::string>{"DOCU", "CMS3", "MESH", "KNOT", "NODE", "CMS3", "END "});
-    const auto meshes = gmbtest::compactRecords(bytes);
-    REQUIRE(meshes.size() == 3);
-    CHECK_FALSE(meshes[0].byRule);
-    CHECK(meshes[1].byRule);
-    CHECK(meshes[2].byRule);
-    const gm::Document d = gm::decodeGmb(bytes, gm::ReadLimits{}, "golden-1.4-compact-mixed.gmb");
-    REQUIRE(d == gmbtest::goldenMixed12());
-    REQUIRE(d == gm::decodeGmb(golden("golden-1.3-compact-mixed.gmb"), gm::ReadLimits{}));
-    CHECK(gm::followsColorRule(d.meshes[1]));
+    checkMixedStreamGolden("golden-1.4-compact-mixed.gmb", "CMS3");
 }
 
 // Writes the golden files and the malformed corpus; run by hand only (see gmb_corpus.h). The
