@@ -19,6 +19,7 @@ namespace gm::gmb {
 constexpr char kMagic[8] = {'\x89', 'G', 'M', 'B', '\r', '\n', '\x1a', '\n'};
 constexpr uint16_t kMajor = 1;
 constexpr uint16_t kMinor = 4;             // the newest minor this code reads and writes
+constexpr uint16_t kMinorCms2 = 3;         // a file whose newest sections are CMS2
 constexpr size_t kFileHeaderSize = 12;     // magic, major, minor
 constexpr size_t kSectionHeaderSize = 24;  // tag, flags, codec, reserved, stored, raw
 constexpr size_t kCrcSize = 4;

@@ -691,7 +691,7 @@ void Decoder::readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& 
     int shared[kFieldCount] = {};
     const bool cms3 = s.tag == "CMS3";
     const char* tag = cms3 ? "CMS3" : "CMS2";
-    const uint64_t count = openMeshRun(s, tag, cms3 ? 4 : 3, meshesLeft, p, shared);
+    const uint64_t count = openMeshRun(s, tag, cms3 ? kMinor : kMinorCms2, meshesLeft, p, shared);
     ByteReader& r = p.reader;
     r.need(count / kStreamMeshesPerByte, std::to_string(count) + " range-coded meshes");
     CompactStreamReader stream(r, cms3 ? StreamKind::Cms3 : StreamKind::Cms2);

@@ -231,9 +231,9 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the quantised
-// grid (enormous coordinates, degenerate knot spacing); the caller then writes the mesh as
-// float64, always within bounds.
+// Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the
+// quantised grid (enormous coordinates, degenerate knot spacing); the caller then writes the
+// mesh as float64, always within bounds.
 bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
     int e[kFieldCount];
     chooseExponents(m, shift, e);
@@ -383,7 +383,7 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbSt
     SectionSink out;
     // The lowest version that holds the file: lossless files stay readable by 1.0 readers, a
     // file with CMS2 sections needs 1.3 and only one with a CMS3 section 1.4 (set at the end).
-    out.header(coded ? 3 : 0);
+    out.header(coded ? kMinorCms2 : 0);
     bool anyCms3 = false;
     ByteWriter docu;
     docu.u32(static_cast<uint32_t>(doc.width));
