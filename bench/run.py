@@ -234,8 +234,9 @@ def main():
             svg_exact = os.path.join(out, name + "_exact.svg")
             px = subprocess.run([gm, "convert", gmb, "-o", svg_exact], stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
-            svg_exact_bytes = os.path.getsize(svg_exact) if px.returncode == 0 else None
+            svg_exact_bytes = None
             if px.returncode == 0:
+                svg_exact_bytes = os.path.getsize(svg_exact)
                 os.remove(svg_exact)
         # How far Inkscape's bicubic rule, applied to our node colours in that file, is from
         # our colours (gradmesh info).

@@ -337,6 +337,10 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     const long unit = std::max(1L, static_cast<long>(std::ceil(double(n) * double(room + 1) /
                                                                 kAllotCells)));
     const long cells = room / unit + 1;
+    // Units beyond its region's first point that point i of front f takes.
+    auto unitsOf = [unit](const std::vector<RdPoint>& f, size_t i) {
+        return (std::lround(f[i].patches - f.front().patches) + unit - 1) / unit;
+    };
     // best[t]: the least summed error of the regions so far with at most t units beyond their
     // first points; pick[k][t]: region k's point there.
     const double inf = std::numeric_limits<double>::infinity();
@@ -347,8 +351,7 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
         const size_t m = std::min<size_t>(f.size(), 65535);
         std::fill(next.begin(), next.end(), inf);
         for (size_t i = 0; i < m; ++i) {
-            const long extra =
-                (std::lround(f[i].patches - f.front().patches) + unit - 1) / unit;
+            const long extra = unitsOf(f, i);
             for (long t = extra; t < cells; ++t) {
                 const double v = best[static_cast<size_t>(t - extra)] + f[i].sse;
                 if (v < next[static_cast<size_t>(t)]) {
@@ -362,7 +365,7 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     long t = cells - 1;
     for (size_t k = n; k-- > 0;) {
         at[k] = pick[k][static_cast<size_t>(t)];
-        t -= (std::lround(fronts[k][at[k]].patches - fronts[k].front().patches) + unit - 1) / unit;
+        t -= unitsOf(fronts[k], at[k]);
     }
     return at;
 }

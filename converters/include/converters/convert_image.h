@@ -87,8 +87,6 @@ struct ConvertReport {
 FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
                          const std::vector<uint8_t>& mask);
 
-// One region through corners, triangulate, maps, grid, colours and refine; fills `report`.
-// Throws gm::Error (without a file name) when a stage fails.
 // The stages of a region that do not depend on its patch budget (triangulation, topology and
 // feature maps, per choice of corners), kept for its conversions at other budgets. One cache
 // serves one region (the same pixels, outline and options but maxPatches); it may be shared by
@@ -106,8 +104,9 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// With `cache`: the budget-independent stages are taken from it when it has them, and left in
-// it otherwise.
+// One region through corners, triangulate, maps, grid, colours and refine; fills `report`.
+// Throws gm::Error (without a file name) when a stage fails. With `cache`: the
+// budget-independent stages are taken from it when it has them, and left in it otherwise.
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
                            const ConvertOptions& options, RegionReport& report,
                            RegionMapCache* cache = nullptr);

@@ -336,7 +336,6 @@ double signedBits(IntegerModels& m, int64_t x) {
     return bits + magnitudeBits(m.length, m.top, absolute(x));
 }
 
-
 // CMS3 (gmb_format.cpp, "CMS3"): the residual models each plane (node-record component) codes
 // with, named by the first component that uses them; 7 sets in all.
 constexpr int kCms3Models[kNodeComponents] = {0, 1, 2, 2, 2, 2, 6, 7, 6, 9, 10, 9, 9, 10, 9};
@@ -412,9 +411,9 @@ struct StreamModels {
 
 namespace {
 
-// The weights of the planes of a CMS2 or CMS3 mesh (the defaults, or fitted weights where they save more
-// than they cost to state, estimated with the stream's models as they are when the mesh
-// begins) and the residuals they leave, plane by plane in node-record component order.
+// The weights of the planes of a CMS2 or CMS3 mesh (the defaults, or fitted weights where they
+// save more than they cost to state, estimated with the stream's models as they are when the
+// mesh begins) and the residuals they leave, plane by plane in node-record component order.
 void chooseWeights(const CodedGrid& g, const StreamModels& models,
                    Weights (&weights)[kNodeComponents], uint64_t& mask,
                    std::vector<int64_t>& residuals) {
