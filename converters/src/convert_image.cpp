@@ -50,7 +50,8 @@ FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
                 continue;
             }
             for (int c = 0; c < 3; ++c) {
-                const double d = std::fabs(double(a[c]) - b[c]) * 255.0;
+                // Clamped, as every writer's colours are (and every viewer's).
+                const double d = std::fabs(double(a[c]) - std::clamp(b[c], 0.0f, 1.0f)) * 255.0;
                 sum += d;
                 sq += d * d;
                 e.maxAbs = std::max(e.maxAbs, d);

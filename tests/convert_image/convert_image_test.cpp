@@ -652,3 +652,23 @@ TEST_CASE("a region's maps kept for its other budgets give the same meshes", "[c
         first = false;
     }
 }
+
+TEST_CASE("error figures measure a render's colours clamped to 0-1, as they are shown",
+          "[convert][measure]") {
+    // A fitted mesh may overshoot; every writer and viewer clamps, so the figures do too.
+    RgbaImage reference(2, 1), test(2, 1);
+    for (int x = 0; x < 2; ++x) {
+        float* r = reference.at(x, 0);
+        float* t = test.at(x, 0);
+        r[0] = r[1] = r[2] = x ? 1.0f : 0.0f;
+        r[3] = t[3] = 1;
+        t[0] = t[1] = t[2] = x ? 1.3f : -0.2f;  // beyond white, below black
+    }
+    const FitError e = compareOverMask(reference, test, {1, 1});
+    CHECK(e.meanAbs == 0);
+    CHECK(e.maxAbs == 0);
+    test.at(1, 0)[1] = 0.8f;
+    const FitError g = compareOverMask(reference, test, {1, 1});
+    CHECK(g.maxAbs == Approx(0.2 * 255).margin(1e-3));
+    CHECK(g.meanAbs == Approx(0.2 * 255 / 6).margin(1e-3));
+}
