@@ -58,7 +58,39 @@ struct RegionOutcome {
     int how = 0;           // 0 failed (left to the base mesh), 1 whole, 2 holes filled,
                            // 3 core + thin parts apart, 4 split at necks
     std::string sideNotes;  // how 4: what the sides' own conversions did
+    double spill = 0;       // --total-patches: spillSse of the meshes
 };
+
+// The squared error (0-255 units; per pixel the mean over its channels, summed over pixels, as
+// FitError's rmse² times pixels) that the meshes of region `k` make where they paint pixels of
+// the regions drawn before it (drawnAt < k): folds and outline deviation put their colours
+// there, on top, and the region's own error does not see them.
+double spillSse(const std::vector<GradientMesh>& meshes, const RgbaImage& image,
+                const std::vector<int>& drawnAt, int k) {
+    double sse = 0;
+    RenderOptions ro;
+    ro.threads = 1;
+    std::vector<uint8_t> painted(drawnAt.size(), 0);
+    std::vector<float> colour(drawnAt.size() * 3);
+    for (const GradientMesh& m : meshes) {
+        const RgbaImage r = renderMesh(m, image.width, image.height, ro).image;
+        for (size_t p = 0; p < drawnAt.size(); ++p)
+            if (drawnAt[p] >= 0 && drawnAt[p] < k && r.pixels[p * 4 + 3] >= 0.5f) {
+                painted[p] = 1;
+                for (int c = 0; c < 3; ++c) colour[p * 3 + c] = r.pixels[p * 4 + c];
+            }
+    }
+    for (size_t p = 0; p < drawnAt.size(); ++p) {
+        if (!painted[p]) continue;
+        double e = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double d = 255.0 * (std::clamp(colour[p * 3 + c], 0.0f, 1.0f) - image.pixels[p * 4 + c]);
+            e += d * d;
+        }
+        sse += e / 3;
+    }
+    return sse;
+}
 
 // The region's budget: its pixels / pixelsPerPatch within [minRegionPatches, maxPatches].
 ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
@@ -440,6 +472,8 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                 const size_t k = jobs[w].first;
                 outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0,
                                                    options.totalPatches > 0 ? &caches[k] : nullptr);
+                if (options.totalPatches > 0 && outcomes[w].how != 0)
+                    outcomes[w].spill = spillSse(outcomes[w].meshes, image, drawnAt, static_cast<int>(k));
             }
         };
         std::vector<std::thread> pool;
@@ -480,8 +514,11 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
                 const RegionOutcome& o = outcomes[w];
                 if (o.how == 0) continue;
                 const double covered = double(o.report.error.pixels) * (1 - o.report.error.uncovered);
+                // Its own pixels' error and what it does to the regions beneath: a mesh that
+                // folds over a neighbour looks good on its own (HappyFish at 80 patches in all
+                // took one, 0.6 dB worse over the image than at 70).
                 pts.push_back({double(o.report.patches),
-                               o.report.error.rmse * o.report.error.rmse * covered, w});
+                               o.report.error.rmse * o.report.error.rmse * covered + o.spill, w});
             }
             if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
             curves[k] = paretoFront(std::move(pts));
@@ -490,6 +527,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         std::vector<RegionOutcome> chosen(n);
         for (size_t k = 0; k < n; ++k) {
             const size_t w = curves[k][pick[k]].job;
+            rep.keptSpill.push_back(outcomes[w].how ? outcomes[w].spill : 0);
             chosen[k] = std::move(outcomes[w]);
             int most = 0;
             for (size_t v : tried[k]) most = std::max(most, jobs[v].second);

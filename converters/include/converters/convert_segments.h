@@ -60,7 +60,8 @@ struct SegmentConvertOptions {
     // totalPatches by pixels, at least topBudgetShare times the mean share, rounded up to the
     // ladder; at most convert.maxPatches). The meshes kept are those whose patches total at
     // most totalPatches with the least summed squared error (allotPatches; no further
-    // conversion).
+    // conversion): each mesh's over its region's pixels plus its spill over the regions drawn
+    // before it (SegmentConvertReport::keptSpill).
     // The ladders of a larger total hold those of a smaller one, so the summed error never
     // rises with the total. --max-error still stops each region.
     int totalPatches = 0;
@@ -86,6 +87,10 @@ struct SegmentConvertReport {
     // --total-patches: per convert.regions entry, the largest budget tried and the budget of
     // the mesh kept; and how many conversions were made in all.
     std::vector<int> largestBudget, keptBudget;
+    // ... and the kept meshes' squared error (0-255 units, per pixel the mean over channels)
+    // where they paint over regions drawn before them, which the allotment adds to their own
+    // (allotPatches minimises the sum).
+    std::vector<double> keptSpill;
     int conversions = 0;
 };
 
