@@ -15,6 +15,7 @@
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
+#include "converters/visible_colours.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
 #include "formats/svg.h"
@@ -301,34 +302,57 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         if (measuredMask.empty()) measuredMask.assign(static_cast<size_t>(image.width) * image.height, 1);
         return measuredMask;
     };
-    auto compactAt = [&](int level, std::string& bytes) {
-        bytes = encodeGmb(doc, true, level);
-        return compareOverMask(image, renderDocument(decodeGmb(bytes, ReadLimits{}), RenderOptions{}).image,
-                               measured());
+    // A compact file at `level`: its colours refitted to the quantised geometry and slopes, over
+    // the measured pixels where each mesh is on top (visible_colours.h), and its figures.
+    struct Compact {
+        Document doc;  // what the file holds
+        std::string bytes;
+        FitError error;
+        std::string refit;  // QuantisedColors::how
+    };
+    auto compactAt = [&](int level) {
+        const auto quantise = [level](const Document& d) {
+            return decodeGmb(encodeGmb(d, true, level), ReadLimits{});
+        };
+        QuantisedColors q = colorsForQuantisation(doc, image, measured(), co.colors, quantise, co.threads);
+        Compact c;
+        // q.doc is a file's content: written again, it is the same file (tests/cli_convert).
+        c.bytes = encodeGmb(q.doc, true, level);
+        c.error = q.error;
+        c.doc = std::move(q.doc);
+        c.refit = std::move(q.how);
+        return c;
     };
     WriteOptions wo = writeOptions;
-    std::string compactBytes;
-    FitError compactError;
+    Compact compact;
+    bool haveCompact = false;
+    const bool compactOutput = wo.compact && writer.name() == "gmb";
     const bool autoLevel = wo.compact && wo.compactLevel == kCompactLevelAuto;
     if (autoLevel) {
         // The coarsest level whose file adds at most 5 % (and 0.02) to the mesh's E.
         const double meshE =
             compareOverMask(image, renderDocument(doc, RenderOptions{}).image, measured()).meanAbs;
         for (int level = kGmbMaxCompactLevel; level >= 0; --level) {
-            compactError = compactAt(level, compactBytes);
+            compact = compactAt(level);
             wo.compactLevel = level;
-            if (compactError.meanAbs <= 1.05 * meshE + 0.02) break;
+            if (compact.error.meanAbs <= 1.05 * meshE + 0.02) break;
         }
+        haveCompact = true;
+    } else if (compactOutput) {
+        compact = compactAt(wo.compactLevel);
+        haveCompact = true;
     }
 
     t0 = Clock::now();
-    writer.write(doc, out, wo);
+    // A compact .gmb holds the refitted colours (the file is compact's bytes: re-encoding a
+    // quantised document gives the same file).
+    writer.write(compactOutput ? compact.doc : doc, out, wo);
     const double writeSeconds = since(t0);
 
     if (reportPath.empty()) return;
     const double endToEnd = since(tStart);  // what follows only measures for the report
     const int compactLevel = wo.compact ? wo.compactLevel : 0;
-    if (!autoLevel) compactError = compactAt(compactLevel, compactBytes);
+    if (!haveCompact) compact = compactAt(compactLevel);
     std::error_code ec;
     const auto outBytes = std::filesystem::file_size(out, ec);
     std::ostringstream s;
@@ -345,7 +369,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
       << ",\n  \"meshes\": " << doc.meshes.size() << ",\n  \"patches\": " << report.patches
       << ",\n  \"error\": " << errorJson(report.error) << ",\n  \"bytes\": {\"output\": "
       << (ec ? 0 : outBytes) << ", \"gmb_lossless\": " << encodeGmb(doc, false).size()
-      << ", \"gmb_compact\": " << compactBytes.size() << ", \"svg\": ";
+      << ", \"gmb_compact\": " << compact.bytes.size() << ", \"svg\": ";
     // The exact SVG of a whole image or of a mesh of thousands of patches takes longer to
     // encode than the conversion (apple at 12,000 patches: 357 MB, ~14 s, ~2 GB): left out
     // there; convert the .gmb to .svg to know it.
@@ -354,8 +378,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     else
         s << encodeSvg(doc, WriteOptions{}).size() << "}";
     s << ",\n  \"compact\": {\"level\": " << compactLevel << ", \"auto\": " << (autoLevel ? "true" : "false")
-      << ", \"bytes\": " << compactBytes.size()
-      << ", \"error\": " << errorJson(compactError) << "}";
+      << ", \"bytes\": " << compact.bytes.size() << ", \"colors_refit\": " << jsonString(compact.refit)
+      << ", \"error\": " << errorJson(compact.error) << "}";
     if (segment) {
         const SegmentStats& st = segReport.segmentation;
         s << ",\n  \"segments\": {\"count\": " << report.regions.size()
@@ -388,7 +412,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
               << ", \"fallback\": " << jsonString(segReport.fallbacks[k]);
         if (segment && k < segReport.keptBudget.size())
             s << ", \"largest_budget\": " << segReport.largestBudget[k]
-              << ", \"budget\": " << segReport.keptBudget[k];
+              << ", \"budget\": " << segReport.keptBudget[k]
+              << ", \"spill_sse\": " << num(segReport.keptSpill[k]);
         s
           << ", \"triangles\": " << r.triangles << ", \"vertices\": " << r.vertices
           << ", \"map_refined_vertices\": " << r.mapRefinedVertices

@@ -345,10 +345,29 @@ void fitByRule(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatri
     mesh = std::move(bestMesh);
 }
 
+// The least-squares node colours with every colour slope held at its value in `mesh`: the
+// normal equations' value rows, the slopes' part moved to the right-hand side.
+void fitValues(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatrix<double>& A,
+               const Eigen::MatrixXd& rhs) {
+    Eigen::MatrixXd x;
+    gatherColors(mesh, L, x);
+    const int nv = L.nCopies, n = L.total();
+    const Eigen::SparseMatrix<double> Avv = A.topLeftCorner(nv, nv);
+    const Eigen::SparseMatrix<double> Avs = A.topRightCorner(nv, n - nv);
+    const Eigen::MatrixXd b = rhs.topRows(nv) - Avs * x.bottomRows(n - nv);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Avv);
+    if (ldlt.info() != Eigen::Success) return;
+    const Eigen::MatrixXd c = ldlt.solve(b);
+    if (ldlt.info() != Eigen::Success || !c.allFinite()) return;
+    x.topRows(nv) = c;
+    scatterColors(mesh, L, x);
+}
+
 // The least-squares colours of `mesh` (geometry fixed) given the render samples; `mesh` holds
 // the sampled solution on entry and the fitted one on return.
 void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
-               const std::vector<PixelSample>& samples, double regularization, bool byRule) {
+               const std::vector<PixelSample>& samples, int meshIndex, double regularization,
+               ColorMode mode) {
     const SlotLayout L(mesh);
     const int C = mesh.columns(), P = mesh.patchCount();
     std::vector<PatchSlots> slots(static_cast<size_t>(P));
@@ -361,7 +380,7 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
     std::vector<int> start(static_cast<size_t>(P) + 1, 0);
     const size_t nPix = static_cast<size_t>(image.width) * image.height;
     auto usable = [&](size_t p) {
-        return region.mask[p] && samples[p].mesh == 0 && samples[p].patch >= 0;
+        return region.mask[p] && samples[p].mesh == meshIndex && samples[p].patch >= 0;
     };
     for (size_t p = 0; p < nPix; ++p)
         if (usable(p)) ++start[static_cast<size_t>(samples[p].patch) + 1];
@@ -471,8 +490,12 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
             for (int ch = 0; ch < 3; ++ch) rhs(k, ch) += lambda * x0(k, ch);
         }
     }
-    if (byRule) {
+    if (mode == ColorMode::FitRule) {
         fitByRule(mesh, L, A, rhs);
+        return;
+    }
+    if (mode == ColorMode::FitValues) {
+        fitValues(mesh, L, A, rhs);
         return;
     }
     // Conjugate gradients warm-started from the sampled solution: measured at 512² against
@@ -558,23 +581,52 @@ void sampleNodeColors(GradientMesh& mesh, const RgbaImage& image, const Region& 
     applyColorRule(mesh);
 }
 
+namespace {
+
+// The sampled solution computeColors starts from: every node colour sampled; the slopes by the
+// rule, or in FitValues mode the geometry's own.
+GradientMesh sampledStart(const GradientMesh& geometry, const RgbaImage& image, const Region& region,
+                          ColorMode mode) {
+    const std::string problem = validateMesh(geometry);
+    if (!problem.empty()) throw Error("colours: invalid mesh: " + problem);
+    GradientMesh mesh = geometry;
+    sampleNodeColors(mesh, image, region);
+    if (mode != ColorMode::FitValues) return mesh;
+    GradientMesh withSlopes = geometry;
+    for (size_t k = 0; k < withSlopes.nodes.size(); ++k) withSlopes.nodes[k].col = mesh.nodes[k].col;
+    for (size_t s = 0; s < withSlopes.slits.size(); ++s)
+        for (size_t k = 0; k < withSlopes.slits[s].below.size(); ++k)
+            withSlopes.slits[s].below[k].col = mesh.slits[s].below[k].col;
+    return withSlopes;
+}
+
+}  // namespace
+
 ColorResult computeColors(const GradientMesh& geometry, const RgbaImage& image,
                           const Region& region, const ColorOptions& options) {
     checkSizes(image, region);
-    const std::string problem = validateMesh(geometry);
-    if (!problem.empty()) throw Error("colours: invalid mesh: " + problem);
     ColorResult out;
-    out.mesh = geometry;
-    sampleNodeColors(out.mesh, image, region);
+    out.mesh = sampledStart(geometry, image, region, options.mode);
     // Colours do not move the outline, so one render of the geometry serves fit and measure.
     RenderResult r = renderForSamples(out.mesh, image, options);
-    if (options.mode == ColorMode::Fit)
-        fitColors(out.mesh, image, region, r.samples, options.regularization, false);
-    else if (options.mode == ColorMode::FitRule)
-        fitColors(out.mesh, image, region, r.samples, options.regularization, true);
+    if (options.mode != ColorMode::Sampled)
+        fitColors(out.mesh, image, region, r.samples, 0, options.regularization, options.mode);
     measure(out.mesh, image, region, r.samples, options.keepPixels, out);
     if (options.keepPixels) out.samples = std::move(r.samples);
     return out;
+}
+
+GradientMesh fitColorsToSamples(const GradientMesh& geometry, const RgbaImage& image,
+                                const Region& region, const std::vector<PixelSample>& samples,
+                                int meshIndex, const ColorOptions& options) {
+    checkSizes(image, region);
+    if (samples.size() != region.mask.size())
+        throw Error("colours: " + std::to_string(samples.size()) + " render samples for " +
+                    std::to_string(region.mask.size()) + " pixels");
+    GradientMesh mesh = sampledStart(geometry, image, region, options.mode);
+    if (options.mode != ColorMode::Sampled)
+        fitColors(mesh, image, region, samples, meshIndex, options.regularization, options.mode);
+    return mesh;
 }
 
 ColorResult measureColorError(const GradientMesh& mesh, const RgbaImage& image,

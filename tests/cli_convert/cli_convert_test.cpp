@@ -696,6 +696,39 @@ TEST_CASE("segment mode with a whole-image patch budget keeps to it", "[cli_conv
     CHECK(patches >= 50);
 }
 
+TEST_CASE("segment mode, compact level 6: the file's colours are refitted to its grids",
+          "[cli_convert][segment]") {
+    // The report's compact figures are the written file's: its bytes, and its PSNR as the PNG
+    // render of the file measures it (colours refitted to the quantised geometry, see
+    // converters/visible_colours.h).
+    const fs::path d = tmpDir("segmentcompact");
+    const std::string in = std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg";
+    const Run r = gradmesh("convert " + q(in) + " --segment --max-error 2 --max-patches 6 --compact-level 6 -o " +
+                               q(d / "fish.gmb") + " --report " + q(d / "fish.json"),
+                           d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string rep = slurp(d / "fish.json");
+    INFO(rep);
+    const size_t at = rep.find("\"compact\": {");
+    REQUIRE(at != std::string::npos);
+    CHECK_THAT(rep.substr(at, 120), Contains("\"colors_refit\": \"refit\""));
+    CHECK(jsonNumber(rep, "bytes", at) == static_cast<double>(fs::file_size(d / "fish.gmb")));
+    const double psnr = jsonNumber(rep, "psnr", rep.find("\"error\": {", at));
+    const double meshPsnr = jsonNumber(rep, "psnr", rep.find("\"error\": {"));
+    checkSuccess(gradmesh("render " + q(d / "fish.gmb") + " -o " + q(d / "fish.png"), d));
+    const Run cmp = gradmesh("compare " + q(in) + " " + q(d / "fish.png"), d);
+    REQUIRE(cmp.code == 0);
+    const auto p = cmp.out.find("PSNR: ");
+    REQUIRE(p != std::string::npos);
+    const double rendered = std::stod(cmp.out.substr(p + 6));
+    WARN("HappyFish at 6 patches a region, level 6: " << fs::file_size(d / "fish.gmb") << " B, PSNR "
+         << psnr << " dB (the mesh before quantisation " << meshPsnr << "; the PNG render " << rendered
+         << ")");
+    CHECK(rendered == Approx(psnr).margin(0.05));  // the PNG's 8-bit rounding
+    CHECK(psnr > meshPsnr - 0.5);                   // level 6 cost 0.7 dB before the refit
+}
+
 TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[cli_convert][samples]") {
     // A smoke test over real photos: chelsea.png once failed in the thin-parts fallback when
     // every thin part was under 16 px.

@@ -7,6 +7,7 @@
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/evaluate.h"
+#include "meshcore/render.h"
 #include "synthetic_region.h"
 
 using namespace gm;
@@ -309,4 +310,109 @@ TEST_CASE("a slit mesh too large for the rule fit keeps sampled colours, which f
     const ColorResult sampled = computeColors(geo, img, s.region, co);
     CHECK(followsColorRule(rule.mesh, 1e-12));
     CHECK(rule.error.meanAbs == Approx(sampled.error.meanAbs).margin(1e-9));
+}
+
+TEST_CASE("the values fit recovers a mesh's colour values with its slopes held, through slits",
+          "[colours]") {
+    // The target is a render of the grid with arbitrary colours; the geometry passed in carries
+    // the true slopes (and tangent-break slopes) but no values.
+    const auto s = slitRectangle();
+    const GradientMesh truth = paintedSlitGrid(s);
+    const auto [img, region] = renderedTarget(truth, s.region);
+    GradientMesh geometry = truth;
+    for (Node& n : geometry.nodes) n.col = Vec3{};
+    for (Node& n : geometry.slits[0].below) n.col = Vec3{};
+    ColorOptions co;
+    co.mode = ColorMode::FitValues;
+    const ColorResult fit = computeColors(geometry, img, region, co);
+    WARN("recovering a slit mesh's values with its slopes held: E " << fit.error.meanAbs
+                                                                    << ", max " << fit.error.maxAbs);
+    CHECK(fit.error.meanAbs < 0.05);
+    CHECK(fit.error.maxAbs < 1.0);
+    for (size_t k = 0; k < truth.nodes.size(); ++k) {
+        // Slopes exactly as given; values recovered.
+        CHECK(fit.mesh.nodes[k].colU == truth.nodes[k].colU);
+        CHECK(fit.mesh.nodes[k].colV == truth.nodes[k].colV);
+    }
+    CHECK(fit.mesh.slits[0].left.colU == truth.slits[0].left.colU);
+    CHECK(fit.mesh.tangents[0].colU == truth.tangents[0].colU);
+    CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
+    CHECK(fit.mesh.slits[0].below[0].col.r == Approx(truth.slits[0].below[0].col.r).margin(0.01));
+
+    // With the slopes wrong (all 0), the values are the best they can be: no worse than the
+    // sampled ones with those slopes, and worse than the full fit.
+    GradientMesh flat = geometry;
+    for (Node& n : flat.nodes) n.colU = n.colV = Vec3{};
+    for (Node& n : flat.slits[0].below) n.colU = n.colV = Vec3{};
+    const ColorResult flatFit = computeColors(flat, img, region, co);
+    for (const Node& n : flatFit.mesh.nodes) CHECK((n.colU == Vec3{} && n.colV == Vec3{}));
+    GradientMesh flatSampled = flat;
+    sampleNodeColors(flatSampled, img, region);
+    for (Node& n : flatSampled.nodes) n.colU = n.colV = Vec3{};
+    for (Node& n : flatSampled.slits[0].below) n.colU = n.colV = Vec3{};
+    flatSampled.slits[0].left.colU = flatSampled.slits[0].right.colU = Vec3{};
+    flatSampled.tangents[0].colU = Vec3{};
+    REQUIRE(flatFit.mesh.tangents[0].colU == truth.tangents[0].colU);  // held, not zeroed
+    CHECK(flatFit.error.rmse < measureColorError(flatSampled, img, region).error.rmse + 1e-9);
+    CHECK(flatFit.error.rmse > fit.error.rmse);
+}
+
+TEST_CASE("colours fitted to a document's samples use only the pixels where the mesh is on top",
+          "[colours]") {
+    // Two straight meshes: A over the whole 64x48 canvas, B over its right half, drawn on top.
+    // The image is dark where A shows and bright under B: fitted to its visible pixels A is
+    // dark there; fitted to all of its pixels it is a blend.
+    const int W = 64, H = 48;
+    auto rect = [](double x0, double y0, double x1, double y1) {
+        GradientMesh m(1, 1);
+        for (int j = 0; j <= 1; ++j)
+            for (int i = 0; i <= 1; ++i) {
+                Node& n = m.node(i, j);
+                n.pos = {i ? x1 : x0, j ? y1 : y0};
+                n.posU = {x1 - x0, 0};
+                n.posV = {0, y1 - y0};
+            }
+        return m;
+    };
+    Document doc;
+    doc.width = W;
+    doc.height = H;
+    doc.meshes = {rect(0, 0, W, H), rect(W / 2, 0, W, H)};
+    RgbaImage img(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            float* p = img.at(x, y);
+            const float v = x < W / 2 ? 0.1f : 0.9f;
+            p[0] = p[1] = p[2] = v;
+            p[3] = 1;
+        }
+    RenderOptions ro;
+    ro.wantSamples = true;
+    ro.antialias = false;
+    const std::vector<PixelSample> samples = renderDocument(doc, ro).samples;
+    Region all;
+    all.width = W;
+    all.height = H;
+    all.mask.assign(static_cast<size_t>(W) * H, 1);
+    all.pixelCount = W * H;
+    Region left = all;
+    for (int y = 0; y < H; ++y)
+        for (int x = W / 2; x < W; ++x) left.mask[static_cast<size_t>(y) * W + x] = 0;
+    left.pixelCount = W / 2 * H;
+    const GradientMesh a = fitColorsToSamples(doc.meshes[0], img, all, samples, 0);
+    CHECK(a.node(0, 0).col.r == Approx(0.1).margin(0.01));
+    CHECK(a.node(0, 1).col.r == Approx(0.1).margin(0.01));
+    const double visibleE = measureColorError(a, img, left).error.meanAbs;
+    CHECK(visibleE < 1.0);
+    const GradientMesh b = fitColorsToSamples(doc.meshes[1], img, all, samples, 1);
+    for (const Node& n : b.nodes) CHECK(n.col.r == Approx(0.9).margin(0.01));
+    // Fitted to all of its region, A is off where it shows.
+    const ColorResult own = computeColors(doc.meshes[0], img, all);
+    const double ownE = measureColorError(own.mesh, img, left).error.meanAbs;
+    WARN("a mesh half covered by another: E where it shows " << visibleE << " fitted there, "
+                                                             << ownE << " fitted to all its pixels");
+    CHECK(ownE > 10 * visibleE + 5);
+    CHECK_THROWS_AS(fitColorsToSamples(doc.meshes[0], img, all,
+                                       std::vector<PixelSample>(samples.begin(), samples.end() - 1), 0),
+                    Error);
 }

@@ -28,7 +28,9 @@ namespace gm {
 // (applyColorRule): files may omit the slopes, and the editable SVG export is Inkscape's own
 // bicubic rule on our colours. Meshes too large for its solve (over 600 value copies with
 // slits or tangent breaks) keep the sampled solution.
-enum class ColorMode { Sampled, Fit, FitRule };
+// FitValues: only node colours are unknowns; every colour slope keeps the value it has in the
+// geometry passed in (for a refit after the slopes were quantised).
+enum class ColorMode { Sampled, Fit, FitRule, FitValues };
 
 struct ColorOptions {
     ColorMode mode = ColorMode::Fit;
@@ -73,6 +75,15 @@ void sampleNodeColors(GradientMesh& mesh, const RgbaImage& image, const Region& 
 // sizes differ or the mesh is invalid.
 ColorResult computeColors(const GradientMesh& geometry, const RgbaImage& image,
                           const Region& region, const ColorOptions& options = {});
+
+// As computeColors without its render or error figures: `samples` (one per image pixel) come
+// from a render of a document (RenderOptions::wantSamples, antialias off) in which the mesh
+// is number `meshIndex`, and only the region's pixels whose sample names that mesh are
+// fitted: the pixels where it is on top. Throws gm::Error like computeColors, or when
+// `samples` is not one per pixel.
+GradientMesh fitColorsToSamples(const GradientMesh& geometry, const RgbaImage& image,
+                                const Region& region, const std::vector<PixelSample>& samples,
+                                int meshIndex, const ColorOptions& options = {});
 
 // The error figures of a coloured mesh against the image over the region (one render).
 ColorResult measureColorError(const GradientMesh& mesh, const RgbaImage& image,

@@ -1,0 +1,137 @@
+#include "converters/visible_colours.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <chrono>
+#include <cstdio>
+
+#include "converters/convert_image.h"
+#include "meshcore/color_rule.h"
+#include "meshcore/error.h"
+#include "meshcore/render.h"
+
+namespace gm {
+
+namespace {
+
+void checkCanvas(const Document& doc, size_t maskSize, const RgbaImage* image) {
+    const size_t n = static_cast<size_t>(std::max(doc.width, 0)) * std::max(doc.height, 0);
+    if (maskSize != n)
+        throw Error("visible colours: the mask has " + std::to_string(maskSize) +
+                    " pixels, the canvas " + std::to_string(n));
+    if (image && (image->width != doc.width || image->height != doc.height))
+        throw Error("visible colours: the image is " + std::to_string(image->width) + "x" +
+                    std::to_string(image->height) + ", the canvas " + std::to_string(doc.width) +
+                    "x" + std::to_string(doc.height));
+}
+
+int threadCount(int threads) {
+    return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<uint8_t>& mask,
+                 int threads) {
+    RenderOptions ro;
+    ro.threads = threads;
+    return compareOverMask(image, renderDocument(doc, ro).image, mask);
+}
+
+}  // namespace
+
+namespace {
+
+// The document's render samples: per pixel the topmost mesh covering its centre (antialias off,
+// as colours.cpp renders for its fits).
+std::vector<PixelSample> documentSamples(const Document& doc, int threads) {
+    RenderOptions ro;
+    ro.wantSamples = true;
+    ro.antialias = false;
+    ro.threads = threads;
+    return renderDocument(doc, ro).samples;
+}
+
+}  // namespace
+
+std::vector<int> topmostMeshes(const Document& doc, const std::vector<uint8_t>& mask, int threads) {
+    checkCanvas(doc, mask.size(), nullptr);
+    const std::vector<PixelSample> samples = documentSamples(doc, threads);
+    std::vector<int> top(mask.size(), -1);
+    for (size_t p = 0; p < top.size(); ++p)
+        if (mask[p]) top[p] = samples[p].mesh;
+    return top;
+}
+
+Document refitVisibleColors(const Document& doc, const RgbaImage& image,
+                            const std::vector<uint8_t>& mask, ColorMode mode, int threads) {
+    checkCanvas(doc, mask.size(), &image);
+    Document out = doc;
+    if (mode == ColorMode::Sampled || doc.meshes.empty()) return out;
+    // One render gives every mesh's visible pixels and their (patch, s, t).
+    const std::vector<PixelSample> samples = documentSamples(doc, threads);
+    std::vector<int> pixels(doc.meshes.size(), 0);
+    for (size_t p = 0; p < samples.size(); ++p)
+        if (mask[p] && samples[p].mesh >= 0) ++pixels[static_cast<size_t>(samples[p].mesh)];
+
+    // Meshes in parallel, each solve on one thread: a whole image has a few to a few dozen.
+    std::atomic<size_t> next{0};
+    auto work = [&]() {
+        for (size_t k = next++; k < doc.meshes.size(); k = next++) {
+            if (pixels[k] < 4) continue;
+            Region region;
+            region.width = doc.width;
+            region.height = doc.height;
+            region.mask.assign(mask.size(), 0);
+            for (size_t p = 0; p < samples.size(); ++p)
+                if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
+            region.pixelCount = pixels[k];
+            ColorOptions co;
+            co.mode = mode != ColorMode::FitRule && followsColorRule(doc.meshes[k]) ? ColorMode::FitRule : mode;
+            co.threads = 1;
+            out.meshes[k] = fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
+        }
+    };
+    const int n = std::min(threadCount(threads), static_cast<int>(doc.meshes.size()));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < n; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    return out;
+}
+
+QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& image,
+                                      const std::vector<uint8_t>& mask, ColorMode mode,
+                                      const std::function<Document(const Document&)>& quantise,
+                                      int threads) {
+    checkCanvas(doc, mask.size(), &image);
+    QuantisedColors best;
+    best.doc = quantise(doc);
+    best.error = errorOf(best.doc, image, mask, threads);
+    best.unquantised = errorOf(doc, image, mask, threads);
+    best.how = "as is";
+    const double sq = best.error.rmse * best.error.rmse, sq0 = best.unquantised.rmse * best.unquantised.rmse;
+    if (mode == ColorMode::Sampled || sq <= 1.01 * sq0) return best;
+    auto consider = [&](Document candidate, const char* how) {
+        const FitError e = errorOf(candidate, image, mask, threads);
+        if (e.rmse < best.error.rmse) {
+            best.doc = std::move(candidate);
+            best.error = e;
+            best.how = how;
+        }
+    };
+    const Document quantised = best.doc;
+    if (mode == ColorMode::FitRule) {
+        consider(quantise(refitVisibleColors(quantised, image, mask, ColorMode::FitRule, threads)),
+                 "rule refit");
+        return best;
+    }
+    // Fit: all colours refitted to the quantised geometry, their slopes quantised, then the
+    // values refitted to those slopes (at coarse levels the grid rounds most fitted slopes to 0;
+    // values fitted to the slopes the grid left, without the fresh fit, never did better on the
+    // bench images, nor did the fresh fit quantised without the second).
+    Document refit = quantise(refitVisibleColors(quantised, image, mask, ColorMode::Fit, threads));
+    consider(quantise(refitVisibleColors(refit, image, mask, ColorMode::FitValues, threads)), "refit");
+    return best;
+}
+
+}  // namespace gm
