@@ -88,7 +88,8 @@ void writeOptimized(const Subject& s, int quality, bool subsample, const std::st
     jpeg_set_quality(&cinfo, quality, TRUE);
     cinfo.optimize_coding = TRUE;
     for (int c = 0; c < 3; ++c)
-        cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor = (c == 0 && subsample) ? 2 : 1;
+        cinfo.comp_info[c].h_samp_factor = cinfo.comp_info[c].v_samp_factor =
+            (c == 0 && subsample) ? 2 : 1;
     jpeg_start_compress(&cinfo, TRUE);
     const size_t stride = static_cast<size_t>(img.width) * 3;
     while (cinfo.next_scanline < cinfo.image_height) {

@@ -314,7 +314,9 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         const auto quantise = [level](const Document& d) {
             return decodeGmb(encodeGmb(d, true, level), ReadLimits{});
         };
-        QuantisedColors q = colorsForQuantisation(doc, image, measured(), co.colors, quantise, co.threads);
+        // report.error is the mesh's own, over the same pixels.
+        QuantisedColors q = colorsForQuantisation(doc, image, measured(), co.colors, quantise,
+                                                  co.threads, &report.error);
         Compact c;
         // q.doc is a file's content: written again, it is the same file (tests/cli_convert).
         c.bytes = encodeGmb(q.doc, true, level);

@@ -367,7 +367,7 @@ void fitValues(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatri
 // the sampled solution on entry and the fitted one on return.
 void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
                const std::vector<PixelSample>& samples, int meshIndex, double regularization,
-               ColorMode mode) {
+               ColorMode mode, const GradientMesh* guess = nullptr) {
     const SlotLayout L(mesh);
     const int C = mesh.columns(), P = mesh.patchCount();
     std::vector<PatchSlots> slots(static_cast<size_t>(P));
@@ -503,12 +503,19 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
     // in); a direct solve remains the fallback. A relative residual of 1e-5 is plenty: against
     // 1e-8, E moved by at most 0.002 on the whole-image samples and they converted ~15% faster.
     Eigen::MatrixXd x(n, 3);
+    // From the guess when there is one (a refit: its colours are near the answer), else from
+    // the sampled solution.
+    Eigen::MatrixXd from = x0;
+    if (guess) {
+        gatherColors(*guess, L, from);
+        if (!from.allFinite()) from = x0;
+    }
     Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg(A);
     cg.setTolerance(1e-5);
     cg.setMaxIterations(std::max(1000, n));
     bool converged = cg.info() == Eigen::Success;
     for (int ch = 0; ch < 3 && converged; ++ch) {
-        x.col(ch) = cg.solveWithGuess(rhs.col(ch), x0.col(ch));
+        x.col(ch) = cg.solveWithGuess(rhs.col(ch), from.col(ch));
         converged = cg.info() == Eigen::Success;
     }
     if (!converged) {
@@ -585,15 +592,16 @@ namespace {
 
 // The sampled solution computeColors starts from: every node colour sampled; the slopes by the
 // rule, or in FitValues mode the geometry's own.
-GradientMesh sampledStart(const GradientMesh& geometry, const RgbaImage& image, const Region& region,
-                          ColorMode mode) {
+GradientMesh sampledStart(const GradientMesh& geometry, const RgbaImage& image,
+                          const Region& region, ColorMode mode) {
     const std::string problem = validateMesh(geometry);
     if (!problem.empty()) throw Error("colours: invalid mesh: " + problem);
     GradientMesh mesh = geometry;
     sampleNodeColors(mesh, image, region);
     if (mode != ColorMode::FitValues) return mesh;
     GradientMesh withSlopes = geometry;
-    for (size_t k = 0; k < withSlopes.nodes.size(); ++k) withSlopes.nodes[k].col = mesh.nodes[k].col;
+    for (size_t k = 0; k < withSlopes.nodes.size(); ++k)
+        withSlopes.nodes[k].col = mesh.nodes[k].col;
     for (size_t s = 0; s < withSlopes.slits.size(); ++s)
         for (size_t k = 0; k < withSlopes.slits[s].below.size(); ++k)
             withSlopes.slits[s].below[k].col = mesh.slits[s].below[k].col;
@@ -625,7 +633,8 @@ GradientMesh fitColorsToSamples(const GradientMesh& geometry, const RgbaImage& i
                     std::to_string(region.mask.size()) + " pixels");
     GradientMesh mesh = sampledStart(geometry, image, region, options.mode);
     if (options.mode != ColorMode::Sampled)
-        fitColors(mesh, image, region, samples, meshIndex, options.regularization, options.mode);
+        fitColors(mesh, image, region, samples, meshIndex, options.regularization, options.mode,
+                  options.warmStart ? &geometry : nullptr);
     return mesh;
 }
 

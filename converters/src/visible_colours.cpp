@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <thread>
-#include <chrono>
-#include <cstdio>
 
 #include "converters/convert_image.h"
 #include "meshcore/color_rule.h"
@@ -27,7 +25,8 @@ void checkCanvas(const Document& doc, size_t maskSize, const RgbaImage* image) {
 }
 
 int threadCount(int threads) {
-    return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    return threads > 0 ? threads
+                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<uint8_t>& mask,
@@ -36,10 +35,6 @@ FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<
     ro.threads = threads;
     return compareOverMask(image, renderDocument(doc, ro).image, mask);
 }
-
-}  // namespace
-
-namespace {
 
 // The document's render samples: per pixel the topmost mesh covering its centre (antialias off,
 // as colours.cpp renders for its fits).
@@ -51,24 +46,13 @@ std::vector<PixelSample> documentSamples(const Document& doc, int threads) {
     return renderDocument(doc, ro).samples;
 }
 
-}  // namespace
-
-std::vector<int> topmostMeshes(const Document& doc, const std::vector<uint8_t>& mask, int threads) {
-    checkCanvas(doc, mask.size(), nullptr);
-    const std::vector<PixelSample> samples = documentSamples(doc, threads);
-    std::vector<int> top(mask.size(), -1);
-    for (size_t p = 0; p < top.size(); ++p)
-        if (mask[p]) top[p] = samples[p].mesh;
-    return top;
-}
-
-Document refitVisibleColors(const Document& doc, const RgbaImage& image,
-                            const std::vector<uint8_t>& mask, ColorMode mode, int threads) {
-    checkCanvas(doc, mask.size(), &image);
+// refitVisibleColors with the document's samples given (one render serves refits of the same
+// geometry).
+Document refitWithSamples(const Document& doc, const RgbaImage& image,
+                          const std::vector<uint8_t>& mask, ColorMode mode, int threads,
+                          const std::vector<PixelSample>& samples) {
     Document out = doc;
     if (mode == ColorMode::Sampled || doc.meshes.empty()) return out;
-    // One render gives every mesh's visible pixels and their (patch, s, t).
-    const std::vector<PixelSample> samples = documentSamples(doc, threads);
     std::vector<int> pixels(doc.meshes.size(), 0);
     for (size_t p = 0; p < samples.size(); ++p)
         if (mask[p] && samples[p].mesh >= 0) ++pixels[static_cast<size_t>(samples[p].mesh)];
@@ -86,9 +70,12 @@ Document refitVisibleColors(const Document& doc, const RgbaImage& image,
                 if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
             region.pixelCount = pixels[k];
             ColorOptions co;
-            co.mode = mode != ColorMode::FitRule && followsColorRule(doc.meshes[k]) ? ColorMode::FitRule : mode;
+            const bool keepRule = mode != ColorMode::FitRule && followsColorRule(doc.meshes[k]);
+            co.mode = keepRule ? ColorMode::FitRule : mode;
             co.threads = 1;
-            out.meshes[k] = fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
+            co.warmStart = true;  // the colours given are near the refit's
+            out.meshes[k] =
+                fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
         }
     };
     const int n = std::min(threadCount(threads), static_cast<int>(doc.meshes.size()));
@@ -99,17 +86,37 @@ Document refitVisibleColors(const Document& doc, const RgbaImage& image,
     return out;
 }
 
+}  // namespace
+
+std::vector<int> topmostMeshes(const Document& doc, const std::vector<uint8_t>& mask, int threads) {
+    checkCanvas(doc, mask.size(), nullptr);
+    const std::vector<PixelSample> samples = documentSamples(doc, threads);
+    std::vector<int> top(mask.size(), -1);
+    for (size_t p = 0; p < top.size(); ++p)
+        if (mask[p]) top[p] = samples[p].mesh;
+    return top;
+}
+
+Document refitVisibleColors(const Document& doc, const RgbaImage& image,
+                            const std::vector<uint8_t>& mask, ColorMode mode, int threads) {
+    checkCanvas(doc, mask.size(), &image);
+    if (mode == ColorMode::Sampled || doc.meshes.empty()) return doc;
+    // One render gives every mesh's visible pixels and their (patch, s, t).
+    return refitWithSamples(doc, image, mask, mode, threads, documentSamples(doc, threads));
+}
+
 QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& image,
                                       const std::vector<uint8_t>& mask, ColorMode mode,
                                       const std::function<Document(const Document&)>& quantise,
-                                      int threads) {
+                                      int threads, const FitError* unquantised) {
     checkCanvas(doc, mask.size(), &image);
     QuantisedColors best;
     best.doc = quantise(doc);
     best.error = errorOf(best.doc, image, mask, threads);
-    best.unquantised = errorOf(doc, image, mask, threads);
+    best.unquantised = unquantised ? *unquantised : errorOf(doc, image, mask, threads);
     best.how = "as is";
-    const double sq = best.error.rmse * best.error.rmse, sq0 = best.unquantised.rmse * best.unquantised.rmse;
+    const double sq = best.error.rmse * best.error.rmse;
+    const double sq0 = best.unquantised.rmse * best.unquantised.rmse;
     if (mode == ColorMode::Sampled || sq <= 1.01 * sq0) return best;
     auto consider = [&](Document candidate, const char* how) {
         const FitError e = errorOf(candidate, image, mask, threads);
@@ -120,17 +127,20 @@ QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& imag
         }
     };
     const Document quantised = best.doc;
+    // The quantised geometry is every candidate's: one render gives its samples.
+    const std::vector<PixelSample> samples = documentSamples(quantised, threads);
+    auto refit = [&](const Document& d, ColorMode m) {
+        return quantise(refitWithSamples(d, image, mask, m, threads, samples));
+    };
     if (mode == ColorMode::FitRule) {
-        consider(quantise(refitVisibleColors(quantised, image, mask, ColorMode::FitRule, threads)),
-                 "rule refit");
+        consider(refit(quantised, ColorMode::FitRule), "rule refit");
         return best;
     }
     // Fit: all colours refitted to the quantised geometry, their slopes quantised, then the
     // values refitted to those slopes (at coarse levels the grid rounds most fitted slopes to 0;
     // values fitted to the slopes the grid left, without the fresh fit, never did better on the
     // bench images, nor did the fresh fit quantised without the second).
-    Document refit = quantise(refitVisibleColors(quantised, image, mask, ColorMode::Fit, threads));
-    consider(quantise(refitVisibleColors(refit, image, mask, ColorMode::FitValues, threads)), "refit");
+    consider(refit(refit(quantised, ColorMode::Fit), ColorMode::FitValues), "refit");
     return best;
 }
 

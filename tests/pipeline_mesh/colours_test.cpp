@@ -325,8 +325,8 @@ TEST_CASE("the values fit recovers a mesh's colour values with its slopes held, 
     ColorOptions co;
     co.mode = ColorMode::FitValues;
     const ColorResult fit = computeColors(geometry, img, region, co);
-    WARN("recovering a slit mesh's values with its slopes held: E " << fit.error.meanAbs
-                                                                    << ", max " << fit.error.maxAbs);
+    WARN("recovering a slit mesh's values with its slopes held: E " << fit.error.meanAbs << ", max "
+                                                                    << fit.error.maxAbs);
     CHECK(fit.error.meanAbs < 0.05);
     CHECK(fit.error.maxAbs < 1.0);
     for (size_t k = 0; k < truth.nodes.size(); ++k) {
@@ -409,10 +409,11 @@ TEST_CASE("colours fitted to a document's samples use only the pixels where the 
     // Fitted to all of its region, A is off where it shows.
     const ColorResult own = computeColors(doc.meshes[0], img, all);
     const double ownE = measureColorError(own.mesh, img, left).error.meanAbs;
-    WARN("a mesh half covered by another: E where it shows " << visibleE << " fitted there, "
-                                                             << ownE << " fitted to all its pixels");
+    WARN("a mesh half covered by another: E where it shows "
+         << visibleE << " fitted there, " << ownE << " fitted to all its pixels");
     CHECK(ownE > 10 * visibleE + 5);
-    CHECK_THROWS_AS(fitColorsToSamples(doc.meshes[0], img, all,
-                                       std::vector<PixelSample>(samples.begin(), samples.end() - 1), 0),
-                    Error);
+    CHECK_THROWS_AS(
+        fitColorsToSamples(doc.meshes[0], img, all,
+                           std::vector<PixelSample>(samples.begin(), samples.end() - 1), 0),
+        Error);
 }

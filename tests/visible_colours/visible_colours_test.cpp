@@ -44,7 +44,8 @@ FitError errorOf(const Whole& w, const Document& doc) {
 }
 
 std::function<Document(const Document&)> gmbAt(int level) {
-    return [level](const Document& d) { return decodeGmb(encodeGmb(d, true, level), ReadLimits{}); };
+    return
+        [level](const Document& d) { return decodeGmb(encodeGmb(d, true, level), ReadLimits{}); };
 }
 
 bool sameGeometry(const Document& a, const Document& b) {
@@ -82,9 +83,11 @@ TEST_CASE("each mesh's colours refitted where it shows lower the whole image's e
 
     // Sampled colours stay the paper's.
     const Document sampled = refitVisibleColors(w.doc, w.image, w.all, ColorMode::Sampled);
-    for (size_t k = 0; k < w.doc.meshes.size(); ++k) CHECK(sampled.meshes[k].nodes == w.doc.meshes[k].nodes);
+    for (size_t k = 0; k < w.doc.meshes.size(); ++k)
+        CHECK(sampled.meshes[k].nodes == w.doc.meshes[k].nodes);
 
-    CHECK_THROWS_AS(refitVisibleColors(w.doc, w.image, std::vector<uint8_t>(10, 1), ColorMode::Fit), Error);
+    CHECK_THROWS_AS(refitVisibleColors(w.doc, w.image, std::vector<uint8_t>(10, 1), ColorMode::Fit),
+                    Error);
     CHECK_THROWS_AS(topmostMeshes(w.doc, std::vector<uint8_t>(10, 1)), Error);
     RgbaImage small(8, 8);
     CHECK_THROWS_AS(refitVisibleColors(w.doc, small, w.all, ColorMode::Fit), Error);
@@ -96,11 +99,13 @@ TEST_CASE("colours refitted to a compact file's grids win back what level 6 cost
     const auto quantise = gmbAt(6);
     const FitError lossless = errorOf(w, w.doc);
     const FitError plain = errorOf(w, quantise(w.doc));
-    const QuantisedColors q = colorsForQuantisation(w.doc, w.image, w.all, ColorMode::Fit, quantise);
+    const QuantisedColors q =
+        colorsForQuantisation(w.doc, w.image, w.all, ColorMode::Fit, quantise);
     const std::string bytes = encodeGmb(q.doc, true, 6);
-    WARN("HappyFish at 6 patches a region, level 6: lossless " << lossless.psnr << " dB; the file "
-         << plain.psnr << " dB, " << encodeGmb(w.doc, true, 6).size() << " B; refitted ("
-         << q.how << ") " << q.error.psnr << " dB, " << bytes.size() << " B");
+    WARN("HappyFish at 6 patches a region, level 6: lossless "
+         << lossless.psnr << " dB; the file " << plain.psnr << " dB, "
+         << encodeGmb(w.doc, true, 6).size() << " B; refitted (" << q.how << ") " << q.error.psnr
+         << " dB, " << bytes.size() << " B");
     CHECK(q.how == "refit");
     CHECK(q.unquantised.rmse == lossless.rmse);
     CHECK(q.error.psnr > plain.psnr + 0.3);  // measured +0.49 dB for +3 % bytes
@@ -117,17 +122,18 @@ TEST_CASE("colours refitted to a compact file's grids win back what level 6 cost
 TEST_CASE("a quantisation that costs nothing keeps the document; rule colours keep the rule",
           "[visible][gmb]") {
     const Whole& w = fish(ColorMode::Fit);
-    const QuantisedColors same = colorsForQuantisation(
-        w.doc, w.image, w.all, ColorMode::Fit, [](const Document& d) { return d; });
+    const QuantisedColors same = colorsForQuantisation(w.doc, w.image, w.all, ColorMode::Fit,
+                                                       [](const Document& d) { return d; });
     CHECK(same.how == "as is");
     CHECK(same.error.rmse == same.unquantised.rmse);
 
     const Whole& r = fish(ColorMode::FitRule);
     const auto quantise = gmbAt(6);
     const FitError plain = errorOf(r, quantise(r.doc));
-    const QuantisedColors q = colorsForQuantisation(r.doc, r.image, r.all, ColorMode::FitRule, quantise);
-    WARN("HappyFish at 6 patches a region, rule colours, level 6: " << plain.psnr << " -> "
-                                                                     << q.error.psnr << " dB (" << q.how << ")");
+    const QuantisedColors q =
+        colorsForQuantisation(r.doc, r.image, r.all, ColorMode::FitRule, quantise);
+    WARN("HappyFish at 6 patches a region, rule colours, level 6: "
+         << plain.psnr << " -> " << q.error.psnr << " dB (" << q.how << ")");
     CHECK((q.how == "as is" || q.how == "rule refit"));
     CHECK(q.error.rmse <= plain.rmse);
     for (const GradientMesh& m : q.doc.meshes) CHECK(followsColorRule(m, 1e-9));

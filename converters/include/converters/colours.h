@@ -38,6 +38,10 @@ struct ColorOptions {
     // unknown of the same kind (values, u-slopes, v-slopes).
     double regularization = 1e-3;
     int threads = 0;          // renderer threads (0: all)
+    // fitColorsToSamples, Fit mode: the iterative solve starts from the geometry's own colours
+    // (a refit of colours near the answer) instead of the sampled solution; the pull stays
+    // toward the sampled one.
+    bool warmStart = false;
     bool keepPixels = false;  // fill ColorResult::samples and pixelError
 };
 

@@ -24,7 +24,8 @@ namespace gm {
 
 // Per pixel (row-major, the document's canvas) the index of the topmost mesh of `doc` that
 // covers its centre, -1 where none does or where `mask` is 0. One render.
-std::vector<int> topmostMeshes(const Document& doc, const std::vector<uint8_t>& mask, int threads = 0);
+std::vector<int> topmostMeshes(const Document& doc, const std::vector<uint8_t>& mask,
+                               int threads = 0);
 
 // `doc` with every mesh's colours refitted (computeColors in `mode`) over the pixels of `mask`
 // where that mesh is topmost. In Fit and FitValues modes a mesh whose slopes follow the colour
@@ -44,14 +45,16 @@ Document refitVisibleColors(const Document& doc, const RgbaImage& image,
 //  - Sampled: none (the paper's colours stay the paper's).
 // each quantised again. The one with the least squared error over `mask` is returned.
 struct QuantisedColors {
-    Document doc;              // quantise(...) of the candidate kept
-    FitError error;            // its figures over `mask` (compareOverMask)
-    FitError unquantised;      // `doc`'s own
-    std::string how;           // "as is", "refit" (Fit) or "rule refit" (FitRule)
+    Document doc;          // quantise(...) of the candidate kept
+    FitError error;        // its figures over `mask` (compareOverMask)
+    FitError unquantised;  // `doc`'s own
+    std::string how;       // "as is", "refit" (Fit) or "rule refit" (FitRule)
 };
+// `unquantised`, when given, is `doc`'s error over `mask` (compareOverMask), known to the
+// caller: it saves a render.
 QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& image,
                                       const std::vector<uint8_t>& mask, ColorMode mode,
                                       const std::function<Document(const Document&)>& quantise,
-                                      int threads = 0);
+                                      int threads = 0, const FitError* unquantised = nullptr);
 
 }  // namespace gm
