@@ -417,3 +417,43 @@ TEST_CASE("colours fitted to a document's samples use only the pixels where the 
                            std::vector<PixelSample>(samples.begin(), samples.end() - 1), 0),
         Error);
 }
+
+TEST_CASE("a warm-started refit reaches the colours of a cold one", "[colours]") {
+    // Fit mode's iterative solve from the colours given (a refit) and from the sampled ones
+    // converge to the same least-squares colours.
+    const auto s = disk();
+    GridOptions go;
+    go.columns = 6;
+    go.rows = 6;
+    const GradientMesh geometry = buildGrid(s.tri, s.map, go);
+    RgbaImage img(512, 512);
+    for (int y = 0; y < 512; ++y)
+        for (int x = 0; x < 512; ++x) {
+            const Vec3 c = smooth(x + 0.5, y + 0.5);
+            float* p = img.at(x, y);
+            p[0] = float(c.r), p[1] = float(c.g), p[2] = float(c.b), p[3] = 1;
+        }
+    const ColorResult cold = computeColors(geometry, img, s.region);
+    RenderOptions ro;
+    ro.wantSamples = true;
+    ro.antialias = false;
+    Document doc;
+    doc.width = doc.height = 512;
+    doc.meshes = {cold.mesh};
+    const std::vector<PixelSample> samples = renderDocument(doc, ro).samples;
+    ColorOptions warm;
+    warm.warmStart = true;
+    const GradientMesh again = fitColorsToSamples(cold.mesh, img, s.region, samples, 0, warm);
+    GradientMesh perturbed = cold.mesh;
+    for (Node& n : perturbed.nodes) n.col = n.col + Vec3{0.05, -0.05, 0.02};
+    const GradientMesh fromOff = fitColorsToSamples(perturbed, img, s.region, samples, 0, warm);
+    double worst = 0;
+    for (size_t k = 0; k < cold.mesh.nodes.size(); ++k)
+        for (const GradientMesh* m : {&again, &fromOff}) {
+            const Vec3 d = m->nodes[k].col - cold.mesh.nodes[k].col;
+            worst = std::max({worst, std::abs(d.r), std::abs(d.g), std::abs(d.b)});
+        }
+    CHECK(worst < 2e-3);
+    CHECK(measureColorError(fromOff, img, s.region).error.meanAbs ==
+          Approx(cold.error.meanAbs).margin(0.01));
+}
