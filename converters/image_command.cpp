@@ -331,13 +331,23 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     const bool compactOutput = wo.compact && writer.name() == "gmb";
     const bool autoLevel = wo.compact && wo.compactLevel == kCompactLevelAuto;
     if (autoLevel) {
-        // The coarsest level whose file adds at most 5 % (and 0.02) to the mesh's E.
-        const double meshE =
-            compareOverMask(image, renderDocument(doc, RenderOptions{}).image, measured()).meanAbs;
+        // The coarsest level whose file adds at most 5 % (and 0.02) to the mesh's E. Each level
+        // is first measured as it quantises (one encode and render); only a level within 25 %
+        // of the bound gets the colour refit, which can bring it under (a refit of a whole
+        // image is about a second).
+        const double bound = 1.05 * report.error.meanAbs + 0.02;
         for (int level = kGmbMaxCompactLevel; level >= 0; --level) {
+            const double plainE =
+                compareOverMask(image,
+                                renderDocument(decodeGmb(encodeGmb(doc, true, level), ReadLimits{}),
+                                               RenderOptions{})
+                                    .image,
+                                measured())
+                    .meanAbs;
+            if (plainE > 1.25 * bound && level > 0) continue;
             compact = compactAt(level);
             wo.compactLevel = level;
-            if (compact.error.meanAbs <= 1.05 * meshE + 0.02) break;
+            if (compact.error.meanAbs <= bound) break;
         }
         haveCompact = true;
     } else if (compactOutput) {

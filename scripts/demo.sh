@@ -34,5 +34,10 @@ $gm convert samples/fruits.jpg --segment -o out/fruits.gmb --report out/fruits.j
 $gm convert out/fruits.gmb -o out/fruits.svg --svg-colors editable   # the exact-colour SVG of a whole image is ~300 MB
 $gm render out/fruits.gmb -o out/fruits.png
 $gm compare samples/fruits.jpg out/fruits.png
+# A whole image at about 1 KB: 50 patches shared out over the regions, compact level 6 (its
+# colours refitted to the file's grids).
+$gm convert samples/HappyFish.jpg --segment --max-error 2 --total-patches 50 --compact-level 6 -o out/fish-1k.gmb
+$gm render out/fish-1k.gmb -o out/fish-1k.png
+$gm compare samples/HappyFish.jpg out/fish-1k.png
 set +x
 ls -l out
