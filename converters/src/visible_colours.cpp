@@ -132,15 +132,21 @@ QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& imag
     auto refit = [&](const Document& d, ColorMode m) {
         return quantise(refitWithSamples(d, image, mask, m, threads, samples));
     };
-    if (mode == ColorMode::FitRule) {
-        consider(refit(quantised, ColorMode::FitRule), "rule refit");
-        return best;
+    // A refit that fails (a solve, or a file the writer refuses) leaves the quantised document:
+    // the file is still right, only not improved, and `how` says why.
+    try {
+        if (mode == ColorMode::FitRule) {
+            consider(refit(quantised, ColorMode::FitRule), "rule refit");
+            return best;
+        }
+        // Fit: all colours refitted to the quantised geometry, their slopes quantised, then the
+        // values refitted to those slopes (at coarse levels the grid rounds most fitted slopes
+        // to 0; values fitted to the slopes the grid left, without the fresh fit, never did
+        // better on the bench images, nor did the fresh fit quantised without the second).
+        consider(refit(refit(quantised, ColorMode::Fit), ColorMode::FitValues), "refit");
+    } catch (const Error& e) {
+        best.how += "; the refit failed: " + e.reason();
     }
-    // Fit: all colours refitted to the quantised geometry, their slopes quantised, then the
-    // values refitted to those slopes (at coarse levels the grid rounds most fitted slopes to 0;
-    // values fitted to the slopes the grid left, without the fresh fit, never did better on the
-    // bench images, nor did the fresh fit quantised without the second).
-    consider(refit(refit(quantised, ColorMode::Fit), ColorMode::FitValues), "refit");
     return best;
 }
 

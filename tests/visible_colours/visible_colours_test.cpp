@@ -138,3 +138,19 @@ TEST_CASE("a quantisation that costs nothing keeps the document; rule colours ke
     CHECK(q.error.rmse <= plain.rmse);
     for (const GradientMesh& m : q.doc.meshes) CHECK(followsColorRule(m, 1e-9));
 }
+
+TEST_CASE("a refit that fails leaves the quantised document and says why", "[visible][gmb]") {
+    // The writer refuses the second document it is given: the refit's.
+    const Whole& w = fish(ColorMode::Fit);
+    int calls = 0;
+    const auto level6 = gmbAt(6);
+    const auto quantise = [&calls, &level6](const Document& d) {
+        if (++calls > 1) throw Error("refused on purpose");
+        return level6(d);
+    };
+    const QuantisedColors r =
+        colorsForQuantisation(w.doc, w.image, w.all, ColorMode::Fit, quantise);
+    CHECK(r.how == "as is; the refit failed: refused on purpose");
+    CHECK(encodeGmb(r.doc, true, 6) == encodeGmb(w.doc, true, 6));
+    CHECK(r.error.rmse == errorOf(w, r.doc).rmse);
+}

@@ -48,7 +48,9 @@ struct QuantisedColors {
     Document doc;          // quantise(...) of the candidate kept
     FitError error;        // its figures over `mask` (compareOverMask)
     FitError unquantised;  // `doc`'s own
-    std::string how;       // "as is", "refit" (Fit) or "rule refit" (FitRule)
+    // "as is", "refit" (Fit) or "rule refit" (FitRule); when a refit threw gm::Error,
+    // "as is; the refit failed: " and its reason.
+    std::string how;
 };
 // `unquantised`, when given, is `doc`'s error over `mask` (compareOverMask), known to the
 // caller: it saves a render.
