@@ -67,29 +67,16 @@ struct RegionOutcome {
 // there, on top, and the region's own error does not see them.
 double spillSse(const std::vector<GradientMesh>& meshes, const RgbaImage& image,
                 const std::vector<int>& drawnAt, int k) {
-    double sse = 0;
+    Document own;
+    own.width = image.width;
+    own.height = image.height;
+    own.meshes = meshes;
+    std::vector<uint8_t> beneath(drawnAt.size());
+    for (size_t p = 0; p < beneath.size(); ++p) beneath[p] = drawnAt[p] >= 0 && drawnAt[p] < k;
     RenderOptions ro;
     ro.threads = 1;
-    std::vector<uint8_t> painted(drawnAt.size(), 0);
-    std::vector<float> colour(drawnAt.size() * 3);
-    for (const GradientMesh& m : meshes) {
-        const RgbaImage r = renderMesh(m, image.width, image.height, ro).image;
-        for (size_t p = 0; p < drawnAt.size(); ++p)
-            if (drawnAt[p] >= 0 && drawnAt[p] < k && r.pixels[p * 4 + 3] >= 0.5f) {
-                painted[p] = 1;
-                for (int c = 0; c < 3; ++c) colour[p * 3 + c] = r.pixels[p * 4 + c];
-            }
-    }
-    for (size_t p = 0; p < drawnAt.size(); ++p) {
-        if (!painted[p]) continue;
-        double e = 0;
-        for (int c = 0; c < 3; ++c) {
-            const double d = 255.0 * (std::clamp(colour[p * 3 + c], 0.0f, 1.0f) - image.pixels[p * 4 + c]);
-            e += d * d;
-        }
-        sse += e / 3;
-    }
-    return sse;
+    const FitError e = compareOverMask(image, renderDocument(own, ro).image, beneath);
+    return e.rmse * e.rmse * double(e.pixels) * (1 - e.uncovered);
 }
 
 // The region's budget: its pixels / pixelsPerPatch within [minRegionPatches, maxPatches].
