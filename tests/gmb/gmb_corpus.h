@@ -1,4 +1,4 @@
-// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 to 1.4 and
+// The deterministic documents behind tests/data/gmb: golden files of versions 1.0 to 2.0 and
 // the malformed corpus, each with the message its reading must produce. Only IEEE-exact
 // arithmetic (no libm calls but exact ones: frexp, ldexp, llround), so that the same bytes come
 // out on every platform.
@@ -11,7 +11,8 @@
 // sections read golden-1.2-compact.gmb and golden-1.2-compact-mixed.gmb, those built from CMS2
 // sections golden-1.3-compact.gmb (the 1.3 writer's goldenCompact11). The 1.4 files
 // (golden-1.4-compact.gmb: goldenCompact11; golden-1.4-compact-mixed.gmb: goldenMixed12) are
-// today's writer's output at level 0 with CMS3 asked for (GmbStreams::Cms3).
+// today's writer's output at level 0 with CMS3 asked for (GmbStreams::Cms3) in 1.x framing
+// (GmbFraming::Long); the 2.0 files (golden-2.0-*.gmb) are the same in today's default framing.
 #pragma once
 
 #include <cmath>
@@ -24,6 +25,13 @@
 #include "meshcore/color_rule.h"
 
 namespace gmbtest {
+
+// The writer's 1.x output (compact files as 1.3 or 1.4, in the 24-byte section framing that the
+// tests built before version 2.0 edit byte by byte).
+inline std::string encodeV1(const gm::Document& doc, bool compact, int level = 0,
+                            gm::GmbStreams streams = gm::GmbStreams::Smaller) {
+    return gm::encodeGmb(doc, compact, level, streams, gm::GmbFraming::Long);
+}
 
 // Two meshes on a 64x48 canvas; mesh 0 is 5x4 with a slit on row 2 (columns 1..4, two split
 // nodes) and two corner tangent breaks; mesh 1 is 2x1. Values are not dyadic: lossless only.
@@ -355,8 +363,8 @@ inline std::vector<Malformed> malformedCorpus() {
     }
     {
         std::string s = good;
-        setLE(s, 8, 2, 2);
-        out.push_back({"major-2.gmb", s, "unsupported .gmb major version 2 (this reader knows 1)"});
+        setLE(s, 8, 3, 2);
+        out.push_back({"major-3.gmb", s, "unsupported .gmb major version 3 (this reader knows 1 and 2)"});
     }
     out.push_back({"header-only.gmb", fileHeader(), "truncated: the file ends before section DOCU"});
     out.push_back({"truncated-in-node.gmb", good.substr(0, findSection(good, "NODE").offset + 100),
@@ -687,7 +695,7 @@ inline std::vector<Malformed> malformedCorpus() {
 
     // CMS3 sections (version 1.4): the writer's goldenCompact11, one CMS3 of both meshes. They
     // share CMS2's parsing; these cases check that the tag gets its own checks and names.
-    const std::string cms3 = gm::encodeGmb(goldenCompact11(), true, 0, gm::GmbStreams::Cms3);
+    const std::string cms3 = encodeV1(goldenCompact11(), true, 0, gm::GmbStreams::Cms3);
     const SectionInfo cms3Info = findSection(cms3, "CMS3");
     const std::string cms3Payload = cms3.substr(cms3Info.payload(), static_cast<size_t>(cms3Info.stored));
     auto withCms3 = [&](const std::string& p) { return withPayload(cms3, "CMS3", 0, p); };
@@ -713,6 +721,56 @@ inline std::vector<Malformed> malformedCorpus() {
                        "derivative quantisation exponent 40 out of range (knot exponent -23, value exponent -5) "
                        "in section CMS3 (mesh 0)"});
     }
+
+    // Version 2.0: 1.4's sections in short framing (varint sizes, varint DOCU), built from the
+    // spec (reframeAs20) out of the CMS3 file above.
+    const std::string v2 = reframeAs20(cms3);
+    const std::string v2Rest = v2.substr(listSections2(v2)[1].offset);  // the CMS3 and END sections
+    auto v2Docu = [](const std::string& payload, uint8_t codec = 0, int64_t raw = -1) {
+        return fileHeader(2, 0) + section2("DOCU", payload, 0, codec, raw);
+    };
+    auto v2Dims = [](uint64_t w, uint64_t h, uint64_t meshes) {
+        std::string d;
+        putVarint(d, w);
+        putVarint(d, h);
+        putVarint(d, meshes);
+        return d;
+    };
+    {
+        std::string s = cms3;  // a 1.4 file that claims to be 2.0
+        setLE(s, 8, 2, 2);
+        setLE(s, 10, 0, 2);
+        out.push_back({"v2-in-1x-framing.gmb", s, "CRC mismatch in section DOCU"});
+    }
+    {
+        std::string s = fileHeader(2, 0) + "DOCU" + std::string(2, '\0');
+        putVarint(s, uint64_t(1) << 40);
+        out.push_back({"v2-section-size-beyond-file.gmb", s + std::string(8, '\0'),
+                       "truncated in section DOCU: its 1099511627776-byte payload and CRC need"});
+    }
+    out.push_back({"v2-truncated-size-varint.gmb", fileHeader(2, 0) + "DOCU" + std::string(2, '\0') + "\x80\x80",
+                   "truncated: 1 bytes needed for a varint, 0 remain in section DOCU (its header)"});
+    out.push_back({"v2-overlong-size-varint.gmb",
+                   fileHeader(2, 0) + "DOCU" + std::string(2, '\0') + std::string(10, '\xff') + "\x01" +
+                       std::string(4, '\0'),
+                   "varint overflows 64 bits in section DOCU (its header)"});
+    out.push_back({"v2-docu-size-beyond-counts.gmb", v2Docu(v2Dims(64, 48, 2), 2, int64_t(1) << 40) + v2Rest,
+                   "section DOCU declares 1099511627776 uncompressed bytes; its counts allow at most 4096"});
+    out.push_back({"v2-canvas-zero.gmb", v2Docu(v2Dims(0, 48, 2)) + v2Rest, "canvas size 0x48 is not positive"});
+    out.push_back({"v2-docu-truncated.gmb", v2Docu(v2Dims(64, 48, 2).substr(0, 2)) + v2Rest,
+                   "truncated: 1 bytes needed for a varint, 0 remain in section DOCU"});
+    out.push_back({"v2-meshes-more-than-declared.gmb", v2Docu(v2Dims(64, 48, 1)) + v2Rest,
+                   "CMS3 holds 2 meshes, but the document has only 1 more"});
+    out.push_back({"v2-unknown-required-section.gmb",
+                   v2Docu(v2Dims(64, 48, 2)) + section2("XTRA", "data") + v2Rest,
+                   "unknown required section 'XTRA' (file version 2.0; this reader knows 1.4 and 2.0)"});
+    out.push_back({"v2-crc-mismatch.gmb",
+                   [&] {
+                       std::string s = v2;
+                       s[listSections2(v2)[1].payload + 3] ^= 0x20;
+                       return s;
+                   }(),
+                   "CRC mismatch in section CMS3"});
     return out;
 }
 

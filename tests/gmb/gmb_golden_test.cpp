@@ -48,7 +48,7 @@ TEST_CASE("golden 1.0 lossless file reads to its document", "[golden][roundtrip]
     // All of it, bit for bit.
     REQUIRE(d == gmbtest::goldenLossless());
     // Today's writer still produces these very bytes.
-    CHECK(gm::encodeGmb(d, false) == bytes);
+    CHECK(gmbtest::encodeV1(d, false) == bytes);
 }
 
 TEST_CASE("golden 1.0 compact file reads to its document exactly", "[golden][roundtrip]") {
@@ -98,7 +98,7 @@ TEST_CASE("golden 1.1 compact file reads to its document exactly", "[golden][rou
     CHECK(d.meshes[0].slits[0].left.posU.y == -16 * 1048576.0 / 2097154.0);
     REQUIRE(d == gmbtest::goldenCompact11());
     // Compact is stable on its own grid: the writer gives back what it read.
-    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+    CHECK(gm::decodeGmb(gmbtest::encodeV1(d, true), gm::ReadLimits{}) == d);
 }
 
 TEST_CASE("golden 1.1 compact file with rule colour derivatives recomputes them",
@@ -134,7 +134,7 @@ TEST_CASE("golden 1.2 compact file reads to its document exactly", "[golden][rou
     CHECK(d.meshes[0].slits[0].left.posU.y == -16 * 1048576.0 / 2097154.0);
     REQUIRE(d == gmbtest::goldenCompact11());
     REQUIRE(d == gm::decodeGmb(golden("golden-1.1-compact.gmb"), gm::ReadLimits{}));
-    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+    CHECK(gm::decodeGmb(gmbtest::encodeV1(d, true), gm::ReadLimits{}) == d);
 }
 
 TEST_CASE("golden 1.2 file mixing CMSH runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
@@ -203,7 +203,7 @@ void checkMixedStreamGolden(const std::string& name, const char* tag) {
 
 TEST_CASE("golden 1.3 compact file reads to its document exactly", "[golden][roundtrip]") {
     const gm::Document d = checkStreamGolden("golden-1.3-compact.gmb", "CMS2", 3);
-    CHECK(gm::decodeGmb(gm::encodeGmb(d, true), gm::ReadLimits{}) == d);
+    CHECK(gm::decodeGmb(gmbtest::encodeV1(d, true), gm::ReadLimits{}) == d);
 }
 
 TEST_CASE("golden 1.3 file mixing CMS2 runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
@@ -212,10 +212,10 @@ TEST_CASE("golden 1.3 file mixing CMS2 runs, a float64 mesh and rule colours rea
 
 TEST_CASE("golden 1.4 compact file reads to its document exactly", "[golden][roundtrip]") {
     const gm::Document d = checkStreamGolden("golden-1.4-compact.gmb", "CMS3", 4);
-    CHECK(gm::encodeGmb(d, true, 0, gm::GmbStreams::Cms3) == golden("golden-1.4-compact.gmb"));
+    CHECK(gmbtest::encodeV1(d, true, 0, gm::GmbStreams::Cms3) == golden("golden-1.4-compact.gmb"));
     // This synthetic document is one where CMS2 is smaller (CMS3's priors suit converted
     // images): by default the writer keeps that.
-    CHECK(gmbtest::listSections(gm::encodeGmb(d, true))[1].tag == "CMS2");
+    CHECK(gmbtest::listSections(gmbtest::encodeV1(d, true))[1].tag == "CMS2");
 }
 
 TEST_CASE("golden 1.4 file mixing CMS3 runs, a float64 mesh and rule colours reads", "[golden][roundtrip]") {
@@ -227,11 +227,15 @@ TEST_CASE("golden 1.4 file mixing CMS3 runs, a float64 mesh and rule colours rea
 // lossless files are still 1.0.
 TEST_CASE("generate the golden files and the malformed corpus", "[.generate]") {
     gmbtest::writeFile(kDir + "golden-1.0-lossless.gmb",
-                       gm::encodeGmb(gmbtest::goldenLossless(), false));
+                       gmbtest::encodeV1(gmbtest::goldenLossless(), false));
     gmbtest::writeFile(kDir + "golden-1.1-optional-sections.gmb", gmbtest::goldenNewerMinor());
     gmbtest::writeFile(kDir + "golden-1.4-compact.gmb",
-                       gm::encodeGmb(gmbtest::goldenCompact11(), true, 0, gm::GmbStreams::Cms3));
+                       gmbtest::encodeV1(gmbtest::goldenCompact11(), true, 0, gm::GmbStreams::Cms3));
     gmbtest::writeFile(kDir + "golden-1.4-compact-mixed.gmb",
+                       gmbtest::encodeV1(gmbtest::goldenMixed12(), true, 0, gm::GmbStreams::Cms3));
+    gmbtest::writeFile(kDir + "golden-2.0-compact.gmb",
+                       gm::encodeGmb(gmbtest::goldenCompact11(), true, 0, gm::GmbStreams::Cms3));
+    gmbtest::writeFile(kDir + "golden-2.0-compact-mixed.gmb",
                        gm::encodeGmb(gmbtest::goldenMixed12(), true, 0, gm::GmbStreams::Cms3));
     for (const gmbtest::Malformed& m : gmbtest::malformedCorpus())
         gmbtest::writeFile(kDir + "malformed/" + m.name, m.bytes);

@@ -38,10 +38,10 @@ Document singleMeshDocument(GradientMesh m, int width = 512, int height = 512) {
 // Lossless: equal as a document, and re-encoding the decoded document gives the same bytes
 // (which compares every double bit for bit, -0.0 and NaN payloads included).
 void requireLosslessRoundTrip(const Document& doc) {
-    const std::string bytes = gm::encodeGmb(doc, false);
+    const std::string bytes = gmbtest::encodeV1(doc, false);
     const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "roundtrip.gmb");
     REQUIRE(back == doc);
-    REQUIRE(gm::encodeGmb(back, false) == bytes);
+    REQUIRE(gmbtest::encodeV1(back, false) == bytes);
     // The writer follows the written spec byte for byte.
     REQUIRE(gmbtest::specEncode(doc) == bytes);
 }
@@ -169,7 +169,7 @@ TEST_CASE("lossless round trip keeps a multi-mesh document and its order", "[rou
     d.meshes.push_back(gmbtest::randomMesh(100, 1, 1));
     requireLosslessRoundTrip(d);
     std::swap(d.meshes.front(), d.meshes.back());
-    const Document back = gm::decodeGmb(gm::encodeGmb(d, false), gm::ReadLimits{});
+    const Document back = gm::decodeGmb(gmbtest::encodeV1(d, false), gm::ReadLimits{});
     REQUIRE(back.meshes.front() == d.meshes.front());
     REQUIRE(back == d);
 }
@@ -179,8 +179,8 @@ TEST_CASE("compact round trip stays within the stated bounds on a smooth mesh", 
     gmbtest::addFittingNoise(m, 11);
     const Document doc = singleMeshDocument(m);
     REQUIRE_FALSE(gm::followsColorRule(doc.meshes[0]));
-    const std::string lossless = gm::encodeGmb(doc, false);
-    const std::string compact = gm::encodeGmb(doc, true);
+    const std::string lossless = gmbtest::encodeV1(doc, false);
+    const std::string compact = gmbtest::encodeV1(doc, true);
     const Document back = gm::decodeGmb(compact, gm::ReadLimits{}, "compact.gmb");
     REQUIRE(back.width == doc.width);
     REQUIRE(back.height == doc.height);
@@ -192,7 +192,7 @@ TEST_CASE("compact round trip stays within the stated bounds on a smooth mesh", 
                                         << " per patch)");
     CHECK(compact.size() * 4 < lossless.size());
     // Compact is stable: a second pass changes nothing.
-    REQUIRE(gm::decodeGmb(gm::encodeGmb(back, true), gm::ReadLimits{}) == back);
+    REQUIRE(gm::decodeGmb(gmbtest::encodeV1(back, true), gm::ReadLimits{}) == back);
 }
 
 TEST_CASE("compact round trip stays within the bounds with slits, breaks and odd knots",
@@ -202,18 +202,18 @@ TEST_CASE("compact round trip stays within the bounds with slits, breaks and odd
     for (size_t i = 0; i < m.u.size(); ++i) m.u[i] = 0.001 * i * i + 0.37 * i + 5;
     for (size_t j = 0; j < m.v.size(); ++j) m.v[j] = 40.0 * j + 0.1 * std::sin(double(j));
     const Document doc = singleMeshDocument(m, 640, 480);
-    const Document back = gm::decodeGmb(gm::encodeGmb(doc, true), gm::ReadLimits{});
+    const Document back = gm::decodeGmb(gmbtest::encodeV1(doc, true), gm::ReadLimits{});
     requireWithinBounds(compactDeviation(doc.meshes[0], back.meshes[0], true));
 }
 
 TEST_CASE("compact mode omits colour derivatives that follow the rule", "[roundtrip]") {
     GradientMesh m = gm::makeCurvedMesh(32, 32, 16, 16, 480, 480, 1.0, 5);
     gmbtest::addFittingNoise(m, 12);
-    const std::string explicitDerivatives = gm::encodeGmb(singleMeshDocument(m), true);
+    const std::string explicitDerivatives = gmbtest::encodeV1(singleMeshDocument(m), true);
     gm::applyColorRule(m);
     REQUIRE(gm::followsColorRule(m));
     const Document doc = singleMeshDocument(m);
-    const std::string byRule = gm::encodeGmb(doc, true);
+    const std::string byRule = gmbtest::encodeV1(doc, true);
     WARN("compact with colour derivatives " << explicitDerivatives.size()
                                             << " bytes, by rule " << byRule.size());
     CHECK(byRule.size() < explicitDerivatives.size());
@@ -226,7 +226,7 @@ TEST_CASE("compact mode omits colour derivatives that follow the rule", "[roundt
 TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") {
     // Coordinates far beyond the quantised range: the mesh must come back exactly.
     const Document doc = singleMeshDocument(gmbtest::randomMesh(4));
-    const std::string bytes = gm::encodeGmb(doc, true);
+    const std::string bytes = gmbtest::encodeV1(doc, true);
     CHECK(bytes[gmbtest::findSection(bytes, "MESH").payload() + 16] == 0);  // float64
     CHECK(gmbtest::getLE(bytes, 10, 2) == 0);  // nothing of 1.1 in it: a 1.0 file
     const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
@@ -235,7 +235,7 @@ TEST_CASE("compact writes a mesh it cannot quantise as float64", "[roundtrip]") 
     Document both = doc;
     GradientMesh smooth = gm::makeCurvedMesh(6, 5, 16, 16, 200, 160, 1.0, 8);
     both.meshes.insert(both.meshes.begin(), smooth);
-    const std::string mixed = gm::encodeGmb(both, true);
+    const std::string mixed = gmbtest::encodeV1(both, true);
     // A CMS2 section (version 1.3) or a CMS3 section (1.4), whichever is smaller.
     const std::string runTag = gmbtest::listSections(mixed)[1].tag;
     CHECK(gmbtest::getLE(mixed, 10, 2) == (runTag == "CMS3" ? 4u : 3u));
@@ -326,7 +326,7 @@ TEST_CASE("compact round trip stays within the bounds on meshes of many shapes a
     const std::vector<GradientMesh> meshes = compactTestMeshes();
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
-    const std::string bytes = gm::encodeGmb(doc, true);
+    const std::string bytes = gmbtest::encodeV1(doc, true);
     CHECK(gmbtest::getLE(bytes, 10, 2) >= 3);  // version 1.3 or 1.4
     const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "compact.gmb");
     REQUIRE(back.meshes.size() == doc.meshes.size());
@@ -341,9 +341,9 @@ TEST_CASE("compact round trip stays within the bounds on meshes of many shapes a
         requireWithinBounds(compactDeviation(doc.meshes[k], back.meshes[k], !rule));
     }
     // Stable: the decoded document is on the grid, and comes back bit for bit.
-    REQUIRE(gm::decodeGmb(gm::encodeGmb(back, true), gm::ReadLimits{}) == back);
+    REQUIRE(gm::decodeGmb(gmbtest::encodeV1(back, true), gm::ReadLimits{}) == back);
     // Lossless files are still 1.0 files.
-    CHECK(gmbtest::getLE(gm::encodeGmb(doc, false), 10, 2) == 0);
+    CHECK(gmbtest::getLE(gmbtest::encodeV1(doc, false), 10, 2) == 0);
 }
 
 TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the file",
@@ -351,11 +351,11 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
     const std::vector<GradientMesh> meshes = compactTestMeshes();
     Document doc = singleMeshDocument(meshes[0], 800, 600);
     doc.meshes = meshes;
-    size_t previous = gm::encodeGmb(doc, true).size();
-    CHECK(gm::encodeGmb(doc, true, 0) == gm::encodeGmb(doc, true));
+    size_t previous = gmbtest::encodeV1(doc, true).size();
+    CHECK(gmbtest::encodeV1(doc, true, 0) == gmbtest::encodeV1(doc, true));
     for (int level = 1; level <= gm::kGmbMaxCompactLevel; ++level) {
         INFO("level " << level);
-        const std::string bytes = gm::encodeGmb(doc, true, level);
+        const std::string bytes = gmbtest::encodeV1(doc, true, level);
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{}, "coarse.gmb");
         REQUIRE(back.meshes.size() == doc.meshes.size());
         const auto records = gmbtest::compactRecords(bytes);
@@ -370,13 +370,13 @@ TEST_CASE("coarser compact levels stay within their scaled bounds and shrink the
         CHECK(bytes.size() < previous);
         previous = bytes.size();
         // Stable at its own level.
-        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+        CHECK(gm::decodeGmb(gmbtest::encodeV1(back, true, level), gm::ReadLimits{}) == back);
     }
     // A lossless file ignores the level; a level outside 0..kGmbMaxCompactLevel is refused.
-    CHECK(gm::encodeGmb(doc, false, 3) == gm::encodeGmb(doc, false));
-    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, gm::kGmbMaxCompactLevel + 1),
+    CHECK(gmbtest::encodeV1(doc, false, 3) == gmbtest::encodeV1(doc, false));
+    CHECK_THROWS_WITH(gmbtest::encodeV1(doc, true, gm::kGmbMaxCompactLevel + 1),
                       Catch::Contains("compact level " + std::to_string(gm::kGmbMaxCompactLevel + 1)));
-    CHECK_THROWS_WITH(gm::encodeGmb(doc, true, -1), Catch::Contains("compact level -1"));
+    CHECK_THROWS_WITH(gmbtest::encodeV1(doc, true, -1), Catch::Contains("compact level -1"));
 }
 
 TEST_CASE("compact meshes decode by the written specification alone", "[roundtrip]") {
@@ -389,7 +389,7 @@ TEST_CASE("compact meshes decode by the written specification alone", "[roundtri
     for (gm::GmbStreams streams : {gm::GmbStreams::Cms2, gm::GmbStreams::Cms3})
     for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
         INFO("level " << level << (streams == gm::GmbStreams::Cms3 ? ", CMS3" : ", CMS2"));
-        const std::string bytes = gm::encodeGmb(doc, true, level, streams);
+        const std::string bytes = gmbtest::encodeV1(doc, true, level, streams);
         CHECK(gmbtest::listSections(bytes)[1].tag == (streams == gm::GmbStreams::Cms3 ? "CMS3" : "CMS2"));
         const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
         const auto records = gmbtest::compactRecords(bytes);
@@ -469,7 +469,7 @@ TEST_CASE("CMSH and CMS2 and CMS3 hold what the 1.1 sections held in far fewer b
         INFO("level " << level);
         // A CMS3 file, the same data in CMS2 (1.3) and CMSH (1.2), and CMSH's very streams in
         // the 1.1 layout.
-        const std::string v14 = gm::encodeGmb(doc, true, level, gm::GmbStreams::Cms3);
+        const std::string v14 = gmbtest::encodeV1(doc, true, level, gm::GmbStreams::Cms3);
         const std::string v13 = gmbtest::cms3AsCms2(v14);
         const std::string v12 = gmbtest::cms2AsCmsh(v13);
         const std::string v11 = gmbtest::cmshAs11(v12);
@@ -494,12 +494,12 @@ TEST_CASE("CMSH and CMS2 and CMS3 hold what the 1.1 sections held in far fewer b
         CHECK(v13.size() * 100 < v12.size() * 95);  // at least 5 % smaller again
         // These synthetic meshes are unlike converted images: CMS3's priors cost a little here,
         // and the writer's default keeps CMS2.
-        const std::string chosen = gm::encodeGmb(doc, true, level);
+        const std::string chosen = gmbtest::encodeV1(doc, true, level);
         WARN("  1.4 (CMS3) " << v14.size() << " B (" << 100.0 * v14.size() / v13.size()
                              << " % of CMS2); the default writes " << chosen.size() << " B");
         CHECK(v14.size() * 100 < v13.size() * 110);
         CHECK(chosen.size() ==
-              std::min(v14.size(), gm::encodeGmb(doc, true, level, gm::GmbStreams::Cms2).size()));
+              std::min(v14.size(), gmbtest::encodeV1(doc, true, level, gm::GmbStreams::Cms2).size()));
     }
 }
 
@@ -517,7 +517,7 @@ TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at ever
     for (const char* run : {"CMS2", "CMS3"})
     for (int level = 0; level <= gm::kGmbMaxCompactLevel; ++level) {
         INFO("level " << level << ", " << run);
-        const std::string bytes = gm::encodeGmb(
+        const std::string bytes = gmbtest::encodeV1(
             doc, true, level, run == std::string("CMS3") ? gm::GmbStreams::Cms3 : gm::GmbStreams::Cms2);
         std::vector<std::string> tags;
         for (const gmbtest::SectionInfo& i : gmbtest::listSections(bytes)) tags.push_back(i.tag);
@@ -532,7 +532,7 @@ TEST_CASE("multi-mesh compact documents with slits and breaks round-trip at ever
         }
         CHECK(back.meshes[1].slits.size() == 2);
         CHECK_FALSE(back.meshes[3].tangents.empty());
-        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+        CHECK(gm::decodeGmb(gmbtest::encodeV1(back, true, level), gm::ReadLimits{}) == back);
     }
 }
 
@@ -579,7 +579,7 @@ TEST_CASE("CMS3 runs of small meshes round-trip within the bounds and beat CMSH"
     REQUIRE(gm::followsColorRule(doc.meshes[7]));
     for (int level : {0, 2, 4, 5}) {
         INFO("level " << level);
-        const std::string v14 = gm::encodeGmb(doc, true, level, gm::GmbStreams::Cms3);
+        const std::string v14 = gmbtest::encodeV1(doc, true, level, gm::GmbStreams::Cms3);
         CHECK(gmbtest::getLE(v14, 10, 2) == 4);
         std::vector<std::string> tags;
         for (const gmbtest::SectionInfo& i : gmbtest::listSections(v14)) tags.push_back(i.tag);
@@ -601,7 +601,7 @@ TEST_CASE("CMS3 runs of small meshes round-trip within the bounds and beat CMSH"
         CHECK(back.meshes[5].tangents.size() == 1);
         CHECK(gm::followsColorRule(back.meshes[7]));
         // Stable on its own grid.
-        CHECK(gm::decodeGmb(gm::encodeGmb(back, true, level), gm::ReadLimits{}) == back);
+        CHECK(gm::decodeGmb(gmbtest::encodeV1(back, true, level), gm::ReadLimits{}) == back);
         // The very same data in CMS2 (1.3) and CMSH sections (1.2) reads to the same document
         // and is larger.
         const std::string v13 = gmbtest::cms3AsCms2(v14);
@@ -622,7 +622,7 @@ TEST_CASE("a single big mesh is no larger in CMS3 than in CMS2 or CMSH", "[round
         INFO("level " << level);
         GradientMesh m = gm::makeCurvedMesh(32, 24, 16, 16, 480, 400, 1.0, 21);
         gmbtest::addFittingNoise(m, 22);
-        const std::string v14 = gm::encodeGmb(singleMeshDocument(m), true, level, gm::GmbStreams::Cms3);
+        const std::string v14 = gmbtest::encodeV1(singleMeshDocument(m), true, level, gm::GmbStreams::Cms3);
         const std::string v13 = gmbtest::cms3AsCms2(v14);
         const std::string v12 = gmbtest::cms2AsCmsh(v13);
         const Document back = gm::decodeGmb(v14, gm::ReadLimits{});
@@ -639,7 +639,7 @@ TEST_CASE("the format object writes atomically and reads back", "[roundtrip]") {
     const auto format = gm::makeGmbFormat();
     CHECK(format->name() == "gmb");
     CHECK(format->extensions() == std::vector<std::string>{".gmb"});
-    CHECK(format->sniff(gm::encodeGmb(singleMeshDocument(gmbtest::randomMesh(1)), false)));
+    CHECK(format->sniff(gmbtest::encodeV1(singleMeshDocument(gmbtest::randomMesh(1)), false)));
     CHECK_FALSE(format->sniff("<svg"));
     CHECK_FALSE(format->sniff("\x89GMB"));
     const std::string path = std::string(GRADMESH_TMP) + "/gmb_format_roundtrip.gmb";
@@ -671,9 +671,9 @@ TEST_CASE("a converted whole image is smaller in CMS3 than in CMS2", "[roundtrip
     REQUIRE(doc.meshes.size() == 13);
     for (int level : {0, 2, 4, 6}) {
         INFO("level " << level);
-        const std::string cms2 = gm::encodeGmb(doc, true, level, gm::GmbStreams::Cms2);
-        const std::string cms3 = gm::encodeGmb(doc, true, level, gm::GmbStreams::Cms3);
-        const std::string chosen = gm::encodeGmb(doc, true, level);
+        const std::string cms2 = gmbtest::encodeV1(doc, true, level, gm::GmbStreams::Cms2);
+        const std::string cms3 = gmbtest::encodeV1(doc, true, level, gm::GmbStreams::Cms3);
+        const std::string chosen = gmbtest::encodeV1(doc, true, level);
         WARN("HappyFish whole, level " << level << ": CMS2 " << cms2.size() << " B, CMS3 "
                                        << cms3.size() << " B (" << 100.0 * cms3.size() / cms2.size()
                                        << " %)");

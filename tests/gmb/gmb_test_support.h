@@ -122,6 +122,75 @@ inline std::string specEncode(const gm::Document& d) {
     return s + section("END ", "");
 }
 
+// ---- Version 2.x framing (from the spec): varint sizes, the raw size only when compressed,
+// and a varint DOCU.
+
+inline void putVarint(std::string& s, uint64_t x) {
+    while (x >= 0x80) {
+        s.push_back(static_cast<char>((x & 0x7f) | 0x80));
+        x >>= 7;
+    }
+    s.push_back(static_cast<char>(x));
+}
+inline uint64_t getVarint(const std::string& s, size_t& at) {
+    uint64_t x = 0;
+    for (int shift = 0; at < s.size(); shift += 7) {
+        const auto b = static_cast<unsigned char>(s[at++]);
+        x |= uint64_t(b & 0x7f) << shift;
+        if (!(b & 0x80)) break;
+    }
+    return x;
+}
+
+// One section in 2.x framing. `rawSize` defaults to the payload's size; it is written only for
+// a compressed section (codec != 0).
+inline std::string section2(const std::string& tag, const std::string& payload, uint8_t flags = 0,
+                            uint8_t codec = 0, int64_t rawSize = -1) {
+    std::string s = tag.substr(0, 4);
+    s.push_back(static_cast<char>(flags));
+    s.push_back(static_cast<char>(codec));
+    putVarint(s, payload.size());
+    if (codec != 0) putVarint(s, rawSize < 0 ? payload.size() : static_cast<uint64_t>(rawSize));
+    s += payload;
+    putLE(s, crc32(s, 0, s.size()), 4);
+    return s;
+}
+
+struct Section2Info {
+    size_t offset = 0, payload = 0;  // of the section header, of its payload
+    std::string tag;
+    uint8_t flags = 0, codec = 0;
+    uint64_t stored = 0, raw = 0;
+    size_t end() const { return payload + static_cast<size_t>(stored) + 4; }
+};
+
+// The sections of a well-formed 2.x file.
+inline std::vector<Section2Info> listSections2(const std::string& s) {
+    std::vector<Section2Info> out;
+    size_t pos = 12;
+    while (pos + 11 <= s.size()) {
+        Section2Info i;
+        i.offset = pos;
+        i.tag = s.substr(pos, 4);
+        i.flags = static_cast<uint8_t>(s[pos + 4]);
+        i.codec = static_cast<uint8_t>(s[pos + 5]);
+        size_t at = pos + 6;
+        i.stored = getVarint(s, at);
+        i.raw = i.codec != 0 ? getVarint(s, at) : i.stored;
+        i.payload = at;
+        out.push_back(i);
+        pos = i.end();
+    }
+    return out;
+}
+
+struct SectionInfo;
+inline std::vector<SectionInfo> listSections(const std::string& s);
+
+// A 1.x file (well formed) in the 2.0 framing: the same sections, payloads and flags, each
+// section's sizes as varints, DOCU's three u32 as varints; version 2.0.
+inline std::string reframeAs20(const std::string& v1);
+
 struct SectionInfo {
     size_t offset = 0;  // of the section header
     std::string tag;
@@ -153,6 +222,20 @@ inline SectionInfo findSection(const std::string& s, const std::string& tag, int
     for (const SectionInfo& i : listSections(s))
         if (i.tag == tag && nth-- == 0) return i;
     return {};
+}
+
+inline std::string reframeAs20(const std::string& v1) {
+    std::string s = fileHeader(2, 0);
+    for (const SectionInfo& i : listSections(v1)) {
+        std::string payload = v1.substr(i.payload(), static_cast<size_t>(i.stored));
+        if (i.tag == "DOCU") {
+            std::string docu;
+            for (int k = 0; k < 3; ++k) putVarint(docu, getLE(payload, 4 * k, 4));
+            payload = docu + payload.substr(12);
+        }
+        s += section2(i.tag, payload, i.flags, i.codec, static_cast<int64_t>(i.raw));
+    }
+    return s;
 }
 
 // Recomputes the CRC of the section at `offset` after a test edited it.

@@ -1,4 +1,6 @@
-// .gmb — the native binary format of gradmesh, version 1.4. This comment is the specification.
+// .gmb — the native binary format of gradmesh, versions 1.4 and 2.0. This comment is the
+// specification. Version 2.0 is 1.4 in shorter framing (see "Version 2" below); the writer
+// writes compact files as 2.0 and lossless files as 1.0.
 //
 // Conventions. Integers are little-endian and fixed-width unless called varint. f64 is an
 // IEEE 754 binary64 stored as its 8 bytes, little-endian. varint: unsigned LEB128, at most 10
@@ -10,7 +12,8 @@
 //
 // Header, 12 bytes
 //    0   8  magic 89 47 4D 42 0D 0A 1A 0A ("\x89GMB\r\n\x1a\n")
-//    8   2  major version, 1. A reader refuses a major it does not know.
+//    8   2  major version, 1 (or 2: see "Version 2"). A reader refuses a major it does not
+//           know.
 //   10   2  minor version: 4 if the file has a CMS3 section, else 3 if it has a CMS2 section
 //           (only 1.3 writers wrote those), else 2 if it has a CMSH section (1.2 writers), else
 //           1 if some MESH section says encoding 2, else 0
@@ -47,6 +50,23 @@
 // Every section defined by 1.x is required (flags bit 0 clear).
 //
 // DOCU payload, 12 bytes: u32 canvas width, u32 canvas height (pixels), u32 mesh count.
+//
+// Version 2 (2.0): the sections, payloads and rules of 1.4, in shorter framing; made for small
+// files, where 1.x's fixed 24-byte section headers were 10 % of a 1 KB whole image. Everything
+// not stated here is as in 1.4 (a 2.x file may hold every section a 1.4 file may).
+//   Header: as above, major 2, minor 0. A newer 2.x minor may add what a newer 1.x minor may
+//   (optional sections, appended DOCU and MESH fields, encodings, required sections).
+//   Section, 11 + S bytes at least:
+//      tag (4), u8 flags, u8 codec: as in 1.x
+//      varint S: payload bytes stored in the file
+//      varint N: payload bytes after decompression; present only when codec != 0 (N = S when
+//        stored)
+//      S payload bytes
+//      u32 CRC-32 of the section's bytes from the tag to the end of the payload
+//   DOCU payload: varint canvas width, varint canvas height, varint mesh count (then whatever
+//     a later 2.x minor appends).
+//   A 1.x reader refuses a 2.x file by its major; a 2.x file framed as 1.x fails the CRC of
+//   its first section.
 // MESH payload, 32 bytes: u32 C (patch columns), u32 R (patch rows), u32 slit count,
 //   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised (1.0),
 //   2 quantised and range-coded (since 1.1; the writer's compact mode writes such meshes as

@@ -18,12 +18,17 @@ namespace gm::gmb {
 // conversion, Ctrl-Z stops `type` on DOS.
 constexpr char kMagic[8] = {'\x89', 'G', 'M', 'B', '\r', '\n', '\x1a', '\n'};
 constexpr uint16_t kMajor = 1;
-constexpr uint16_t kMinor = 4;             // the newest minor this code reads and writes
+constexpr uint16_t kMinor = 4;             // the newest 1.x minor this code reads and writes
 constexpr uint16_t kMinorCms2 = 3;         // a file whose newest sections are CMS2
+constexpr uint16_t kMajorShort = 2;        // version 2: 1.4 with short section framing
+constexpr uint16_t kMinorShort = 0;        // the newest 2.x minor this code reads and writes
 constexpr size_t kFileHeaderSize = 12;     // magic, major, minor
-constexpr size_t kSectionHeaderSize = 24;  // tag, flags, codec, reserved, stored, raw
+constexpr size_t kSectionHeaderSize = 24;  // 1.x: tag, flags, codec, reserved, stored, raw
 constexpr size_t kCrcSize = 4;
 constexpr size_t kSectionOverhead = kSectionHeaderSize + kCrcSize;
+// 2.x: tag, flags, codec and a varint S of one byte at least, then the CRC.
+constexpr size_t kShortSectionHeaderMin = 7;
+constexpr size_t kShortSectionOverheadMin = kShortSectionHeaderMin + kCrcSize;
 
 constexpr uint8_t kSectionOptional = 0x01;  // a reader that does not know the tag skips it
 

@@ -62,7 +62,8 @@ struct Section {
     std::string tag;
     uint8_t flags = 0;
     uint8_t codec = 0;
-    uint64_t start = 0;  // file offset of the section header
+    uint64_t start = 0;      // file offset of the section header
+    uint64_t payloadAt = 0;  // file offset of the payload
     uint64_t stored = 0, raw = 0;
 };
 
@@ -172,7 +173,14 @@ private:
     const ReadLimits& limits_;
     const std::string& file_;
     uint64_t pos_ = 0;
+    // The 1.x minor whose sections the file may hold: the file's own for 1.x, kMinor for 2.x
+    // (1.4's sections in short framing).
     uint16_t minor_ = 0;
+    uint16_t fileMajor_ = 1, fileMinor_ = 0;
+    bool shortFraming() const { return fileMajor_ == kMajorShort; }
+    std::string fileVersion() const {
+        return std::to_string(fileMajor_) + "." + std::to_string(fileMinor_);
+    }
     uint64_t decodedBytes_ = 0;  // sum of declared uncompressed sizes so far
     std::string meshName_;       // "mesh 3", for section names in messages
     // The current mesh when quantised: its knots, spans (encoding 2) and NODE values, per
@@ -206,12 +214,14 @@ void Decoder::readFileHeader() {
                  std::to_string(kFileHeaderSize) + " bytes)",
              n);
     ByteReader r(bytes_.data() + sizeof kMagic, 4, Origin{file_, {}, sizeof kMagic});
-    const uint16_t major = r.u16();
-    minor_ = r.u16();
-    if (major != kMajor)
-        fail("unsupported .gmb major version " + std::to_string(major) + " (this reader knows " +
-                 std::to_string(kMajor) + ")",
+    fileMajor_ = r.u16();
+    fileMinor_ = r.u16();
+    if (fileMajor_ != kMajor && fileMajor_ != kMajorShort)
+        fail("unsupported .gmb major version " + std::to_string(fileMajor_) +
+                 " (this reader knows " + std::to_string(kMajor) + " and " +
+                 std::to_string(kMajorShort) + ")",
              8);
+    minor_ = shortFraming() ? kMinor : fileMinor_;
     pos_ = kFileHeaderSize;
 }
 
@@ -228,26 +238,36 @@ Section Decoder::next(std::initializer_list<const char*> tags) {
     for (;;) {
         const uint64_t left = bytes_.size() - pos_;
         if (left == 0) fail("truncated: the file ends before section " + want, pos_);
-        if (left < kSectionHeaderSize)
+        const size_t headerMin = shortFraming() ? kShortSectionHeaderMin : kSectionHeaderSize;
+        if (left < headerMin)
             fail("truncated in the header of the section expected to be " + want, pos_);
         Section s;
         s.start = pos_;
-        ByteReader r(bytes_.data() + pos_, kSectionHeaderSize, Origin{file_, {}, pos_});
+        // 1.x: a fixed 24-byte header; 2.x: varint sizes, raw only when compressed.
         s.tag.assign(bytes_.data() + pos_, 4);
+        ByteReader r(bytes_.data() + pos_, shortFraming() ? left : kSectionHeaderSize,
+                     Origin{file_, printableTag(s.tag) + " (its header)", pos_});
         r.skip(4);
         s.flags = r.u8();
         s.codec = r.u8();
-        r.u16();  // reserved
-        s.stored = r.u64();
-        s.raw = r.u64();
+        if (shortFraming()) {
+            s.stored = r.varint();
+            s.raw = s.codec == static_cast<uint8_t>(Codec::Stored) ? s.stored : r.varint();
+        } else {
+            r.u16();  // reserved
+            s.stored = r.u64();
+            s.raw = r.u64();
+        }
+        const size_t headerSize = r.position();
+        s.payloadAt = s.start + headerSize;
         const std::string name = printableTag(s.tag);
-        const uint64_t after = left - kSectionHeaderSize;
+        const uint64_t after = left - headerSize;
         if (s.stored > after || after - s.stored < kCrcSize)
             fail("truncated in section " + name + ": its " + std::to_string(s.stored) +
                      "-byte payload and CRC need " + std::to_string(satAdd(s.stored, kCrcSize)) +
                      " bytes, " + std::to_string(after) + " remain",
                  s.start);
-        const size_t covered = kSectionHeaderSize + static_cast<size_t>(s.stored);
+        const size_t covered = headerSize + static_cast<size_t>(s.stored);
         ByteReader crcField(bytes_.data() + pos_ + covered, kCrcSize, Origin{file_, {}, pos_ + covered});
         const uint32_t storedCrc = crcField.u32();
         const uint32_t crc = crc32Of(bytes_.data() + pos_, covered);
@@ -260,8 +280,9 @@ Section Decoder::next(std::initializer_list<const char*> tags) {
             return s;
         }
         if (!(s.flags & kSectionOptional))
-            fail("unknown required section '" + name + "' (file version 1." + std::to_string(minor_) +
-                     "; this reader knows 1." + std::to_string(kMinor) + ")",
+            fail("unknown required section '" + name + "' (file version " + fileVersion() +
+                     "; this reader knows 1." + std::to_string(kMinor) + " and " +
+                     std::to_string(kMajorShort) + "." + std::to_string(kMinorShort) + ")",
                  s.start);
     }
 }
@@ -283,7 +304,7 @@ void Decoder::open(const Section& s, uint64_t maxRaw, Payload& p, uint64_t decod
         fail("decoded data would exceed the limit of " + std::to_string(limits_.maxFileBytes) +
                  " bytes (section " + name + ")",
              s.start);
-    const uint64_t payloadAt = s.start + kSectionHeaderSize;
+    const uint64_t payloadAt = s.payloadAt;
     const char* data = bytes_.data() + payloadAt;
     const size_t size = static_cast<size_t>(s.stored);
     if (s.codec == static_cast<uint8_t>(Codec::Stored)) {
@@ -370,8 +391,7 @@ MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
         fail(at + "unknown mesh encoding " + std::to_string(encoding), s.start);
     h.encoding = static_cast<Encoding>(encoding);
     if (h.encoding == Encoding::Coded && minor_ < 1)
-        fail(at + "mesh encoding 2 needs format version 1.1 (the file says 1." +
-                 std::to_string(minor_) + ")",
+        fail(at + "mesh encoding 2 needs format version 1.1 (the file says " + fileVersion() + ")",
              s.start);
     h.byRule = flags & kMeshColorByRule;
     for (int e : h.exponent)
@@ -608,7 +628,7 @@ uint64_t Decoder::openMeshRun(const Section& s, const char* tag, int minor, uint
     const std::string name(tag);
     if (minor_ < minor)
         fail("section " + name + " needs format version 1." + std::to_string(minor) +
-                 " (the file says 1." + std::to_string(minor_) + ")",
+                 " (the file says " + fileVersion() + ")",
              s.start);
     if (s.codec != static_cast<uint8_t>(Codec::Stored))
         fail("section " + name + " must be stored (codec 0), not codec " + std::to_string(s.codec),
@@ -632,7 +652,7 @@ void Decoder::readCompactMeshes(const Section& s, uint64_t meshesLeft, Document&
     const uint64_t count = openMeshRun(s, "CMSH", 2, meshesLeft, p, shared);
     ByteReader& r = p.reader;
     r.need(satMul(count, kMinMeshRecord), std::to_string(count) + " mesh records");
-    const uint64_t payloadAt = s.start + kSectionHeaderSize;
+    const uint64_t payloadAt = s.payloadAt;
     for (uint64_t k = 0; k < count; ++k) {
         meshName_ = "mesh " + std::to_string(doc.meshes.size());
         // The record's own reader names its mesh; the stored payload is a view of the file.
@@ -830,10 +850,16 @@ Document Decoder::run() {
         Payload p;
         open(s, kMaxHeaderPayload, p);
         ByteReader& r = p.reader;
-        r.need(kDocPayloadSize, "the document header");
-        const uint64_t width = r.u32(), height = r.u32();
-        meshCount = r.u32();
-        if (minor_ == 0) finish(p, s);
+        uint64_t width, height;
+        if (shortFraming()) {  // varints (a newer 2.x minor may append fields)
+            width = r.varint(), height = r.varint();
+            meshCount = r.varint();
+        } else {
+            r.need(kDocPayloadSize, "the document header");
+            width = r.u32(), height = r.u32();
+            meshCount = r.u32();
+            if (minor_ == 0) finish(p, s);
+        }
         const uint64_t side = std::min<uint64_t>(limits_.maxCanvasSide, INT_MAX);
         if (width == 0 || height == 0)
             fail("canvas size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive", s.start);

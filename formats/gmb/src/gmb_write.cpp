@@ -24,10 +24,13 @@ constexpr Codec kCompactCodec = Codec::Zstd;
 
 class SectionSink {
 public:
+    // `shortFraming`: version 2 (varint sizes in section headers), else 1.x.
+    explicit SectionSink(bool shortFraming) : short_(shortFraming) {}
+
     void header(uint16_t minor) {
         for (char c : kMagic) w_.u8(static_cast<uint8_t>(c));
-        w_.u16(kMajor);
-        w_.u16(minor);
+        w_.u16(short_ ? kMajorShort : kMajor);
+        w_.u16(short_ ? kMinorShort : minor);
     }
 
     void add(const char (&tag)[5], const std::string& payload, bool tryCompress) {
@@ -39,16 +42,24 @@ public:
         w_.bytes(std::string(tag, 4));
         w_.u8(0);
         w_.u8(static_cast<uint8_t>(codec));
-        w_.u16(0);
-        w_.u64(stored.size());
-        w_.u64(payload.size());
+        if (short_) {
+            w_.varint(stored.size());
+            if (codec != Codec::Stored) w_.varint(payload.size());
+        } else {
+            w_.u16(0);
+            w_.u64(stored.size());
+            w_.u64(payload.size());
+        }
         w_.bytes(stored);
         w_.u32(crc32Of(w_.str().data() + start, w_.str().size() - start));
     }
 
     std::string take() { return std::move(w_.str()); }
 
+    bool shortFraming() const { return short_; }
+
 private:
+    bool short_;
     ByteWriter w_;
 };
 
@@ -365,7 +376,8 @@ GmbCompactShifts gmbCompactShifts(int level) {
     }
 }
 
-std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbStreams streams) {
+std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbStreams streams,
+                      GmbFraming framing) {
     const GmbCompactShifts shift = gmbCompactShifts(compact ? compactLevel : 0);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
@@ -380,15 +392,22 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbSt
         coded = coded || meshes[k].coded;
     }
 
-    SectionSink out;
-    // The lowest version that holds the file: lossless files stay readable by 1.0 readers, a
+    // Compact files are 2.0 unless asked for 1.x: the same sections in shorter framing. In 1.x,
+    // the lowest version that holds the file: lossless files stay readable by 1.0 readers, a
     // file with CMS2 sections needs 1.3 and only one with a CMS3 section 1.4 (set at the end).
+    SectionSink out(compact && framing == GmbFraming::Short);
     out.header(coded ? kMinorCms2 : 0);
     bool anyCms3 = false;
     ByteWriter docu;
-    docu.u32(static_cast<uint32_t>(doc.width));
-    docu.u32(static_cast<uint32_t>(doc.height));
-    docu.u32(static_cast<uint32_t>(doc.meshes.size()));
+    if (out.shortFraming()) {
+        docu.varint(static_cast<uint64_t>(doc.width));
+        docu.varint(static_cast<uint64_t>(doc.height));
+        docu.varint(doc.meshes.size());
+    } else {
+        docu.u32(static_cast<uint32_t>(doc.width));
+        docu.u32(static_cast<uint32_t>(doc.height));
+        docu.u32(static_cast<uint32_t>(doc.meshes.size()));
+    }
     out.add("DOCU", docu.str(), false);
 
     for (size_t k = 0; k < doc.meshes.size();) {
@@ -431,7 +450,8 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbSt
     }
     out.add("END ", std::string(), false);
     std::string bytes = out.take();
-    if (anyCms3) bytes[10] = static_cast<char>(kMinor);  // the minor version, little-endian
+    if (anyCms3 && !out.shortFraming())
+        bytes[10] = static_cast<char>(kMinor);  // the minor version, little-endian
     return bytes;
 }
 
