@@ -59,6 +59,8 @@ const std::map<std::string, std::string> kHelp = {
      "  --legacy                write every mesh with holes as its hole-free pieces\n"
      "  --svg-colors MODE       SVG: exact (default, subdivided) or editable (bicubic)\n"
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 0.5)\n"
+     "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
+     "                          (default 1; 0: split until within the tolerance, however small)\n"
      "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
      "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
      "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
@@ -242,6 +244,8 @@ int cmdConvert(const Args& a, bool renderOnly) {
     }
     if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
         wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
+    if (auto it = a.values.find("--min-piece"); it != a.values.end())
+        wo.minPiece = parseNumber("--min-piece", it->second, 0, 64);
     if (auto it = a.values.find("--scale"); it != a.values.end())
         wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
     if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
@@ -410,7 +414,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (command == "convert" || command == "render") {
-            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance",
+            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
                                             "--scale", "--background", "--mesh-lines"};
             if (command == "convert") valued.insert("--compact-level");
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());

@@ -139,20 +139,46 @@ int colorSubdivisionCount(const BezierPatch& patch, double tolerance, int maxK) 
     return maxK;
 }
 
-std::vector<BezierPatch> subdivideUniform(const BezierPatch& patch, int k) {
-    assert(k >= 1);
+std::pair<int, int> exactColorPieces(const BezierPatch& patch, double tolerance, double minPiece,
+                                     int maxK) {
+    assert(maxK >= 1);
+    // The control polygon's longest run along s and along t bounds the patch's extent that way.
+    double along[2] = {0, 0};
+    for (int e = 0; e < 4; ++e) {
+        double ls = 0, lt = 0;
+        for (int k = 0; k < 3; ++k) {
+            ls += norm(patch.p[k + 1][e] - patch.p[k][e]);
+            lt += norm(patch.p[e][k + 1] - patch.p[e][k]);
+        }
+        along[0] = std::max(along[0], ls);
+        along[1] = std::max(along[1], lt);
+    }
+    int cap[2] = {maxK, maxK};
+    if (minPiece > 0)
+        for (int d = 0; d < 2; ++d)
+            cap[d] = static_cast<int>(std::clamp(std::ceil(along[d] / minPiece), 1.0, double(maxK)));
+    const int k = colorSubdivisionCount(patch, tolerance, std::max(cap[0], cap[1]));
+    return {std::min(k, cap[0]), std::min(k, cap[1])};
+}
+
+std::vector<BezierPatch> subdivideGrid(const BezierPatch& patch, int ks, int kt) {
+    assert(ks >= 1 && kt >= 1);
     std::vector<BezierPatch> pieces;
-    pieces.reserve(static_cast<size_t>(k) * k);
+    pieces.reserve(static_cast<size_t>(ks) * kt);
     // Shared edges come from identical computations (the same blossom arguments), so
     // neighbouring pieces meet bit-exactly.
-    for (int b = 0; b < k; ++b) {
-        const double t0 = static_cast<double>(b) / k, t1 = static_cast<double>(b + 1) / k;
-        for (int a = 0; a < k; ++a) {
-            const double s0 = static_cast<double>(a) / k, s1 = static_cast<double>(a + 1) / k;
-            pieces.push_back(k == 1 ? patch : subPatch(patch, s0, s1, t0, t1));
+    for (int b = 0; b < kt; ++b) {
+        const double t0 = static_cast<double>(b) / kt, t1 = static_cast<double>(b + 1) / kt;
+        for (int a = 0; a < ks; ++a) {
+            const double s0 = static_cast<double>(a) / ks, s1 = static_cast<double>(a + 1) / ks;
+            pieces.push_back(ks == 1 && kt == 1 ? patch : subPatch(patch, s0, s1, t0, t1));
         }
     }
     return pieces;
+}
+
+std::vector<BezierPatch> subdivideUniform(const BezierPatch& patch, int k) {
+    return subdivideGrid(patch, k, k);
 }
 
 }  // namespace gm

@@ -131,3 +131,104 @@ TEST_CASE("subdivideUniform pieces reproduce the original patch exactly", "[colo
                           pieces[static_cast<size_t>(b * k + a + 1)].p[0][e]);
     }
 }
+
+namespace {
+
+// squarePatch scaled to w x h pixels with random colour of the given amplitude.
+BezierPatch sizedPatch(std::mt19937& rng, double w, double h, double amplitude) {
+    BezierPatch p = randomPatch(rng, amplitude);
+    for (auto& row : p.p)
+        for (Vec2& q : row) q = {q.x * w / 30.0, q.y * h / 30.0};
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("exactColorPieces: no piece shorter than minPiece, else colorSubdivisionCount",
+          "[color_subdivision]") {
+    std::mt19937 rng(17);
+    const double tol = 0.5 / 255;
+    for (int trial = 0; trial < 40; ++trial) {
+        // From 4 px (a whole image's small patches) to 300 px, elongated either way.
+        const double w = 4.0 * std::pow(75.0, (trial % 8) / 7.0), h = trial % 3 ? w : w / 6;
+        const BezierPatch p = sizedPatch(rng, w, h, trial % 2 ? 0.3 : 1.0);
+        const int k = colorSubdivisionCount(p, tol);
+        INFO("patch " << w << " x " << h << " px, k " << k);
+        // No limit: the uniform count.
+        CHECK(exactColorPieces(p, tol, 0) == std::make_pair(k, k));
+        for (double minPiece : {0.5, 1.0, 2.0}) {
+            const auto [ks, kt] = exactColorPieces(p, tol, minPiece);
+            CHECK(ks <= k);
+            CHECK(kt <= k);
+            // Each piece at least minPiece long: the control polygon's longest run along s (t)
+            // bounds the patch's extent that way.
+            double runS = 0, runT = 0;
+            for (int e = 0; e < 4; ++e) {
+                double ls = 0, lt = 0;
+                for (int q = 0; q < 3; ++q) {
+                    ls += norm(p.p[q + 1][e] - p.p[q][e]);
+                    lt += norm(p.p[e][q + 1] - p.p[e][q]);
+                }
+                runS = std::max(runS, ls);
+                runT = std::max(runT, lt);
+            }
+            CHECK(ks <= std::max(1.0, std::ceil(runS / minPiece)));
+            CHECK(kt <= std::max(1.0, std::ceil(runT / minPiece)));
+            CHECK(ks >= std::min<double>(k, std::ceil(runS / minPiece)));
+            CHECK(kt >= std::min<double>(k, std::ceil(runT / minPiece)));
+            // Where the limit does not bind, colour is exact.
+            if (ks == k && kt == k && k < 64)
+                for (const BezierPatch& piece : subdivideGrid(p, ks, kt))
+                    CHECK(sampledBilinearDeviation(piece, 16) <= tol);
+        }
+    }
+    // A 4 x 4 px patch with far-from-bilinear colour: the uniform count would cut it into pieces
+    // of a fraction of a pixel; at most 4 (and at least 3: its polygon is ~4 px) each way.
+    BezierPatch tiny = squarePatch();
+    for (auto& row : tiny.p)
+        for (Vec2& q : row) q = (4.0 / 30.0) * q;
+    for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+            tiny.c[a][b] = {(a + b) % 2 ? 1.0 : 0.0, a == 1 ? 1.0 : 0.0, 0.5};
+    REQUIRE(colorSubdivisionCount(tiny, tol) > 8);
+    const auto [ks, kt] = exactColorPieces(tiny, tol, 1.0);
+    CHECK(ks == 4);
+    CHECK(kt == 4);
+    // 40 x 2 px: many pieces along s, at most 2 along t.
+    BezierPatch thin = tiny;
+    for (auto& row : thin.p)
+        for (Vec2& q : row) q = {q.x * 10, q.y / 2};
+    const auto [ts, tt] = exactColorPieces(thin, tol, 1.0);
+    CHECK(ts == colorSubdivisionCount(thin, tol));
+    CHECK(tt == 2);
+}
+
+TEST_CASE("subdivideGrid pieces reproduce the original patch exactly, ks and kt apart",
+          "[color_subdivision]") {
+    std::mt19937 rng(23);
+    const BezierPatch p = randomPatch(rng, 1.0);
+    for (auto [ks, kt] : {std::pair{1, 3}, std::pair{4, 2}, std::pair{3, 3}}) {
+        const std::vector<BezierPatch> pieces = subdivideGrid(p, ks, kt);
+        REQUIRE(pieces.size() == static_cast<size_t>(ks * kt));
+        for (int b = 0; b < kt; ++b)
+            for (int a = 0; a < ks; ++a) {
+                const BezierPatch& piece = pieces[static_cast<size_t>(b * ks + a)];
+                for (double ls : {0.0, 0.4, 1.0})
+                    for (double lt : {0.0, 0.6, 1.0}) {
+                        const double s = (a + ls) / ks, t = (b + lt) / kt;
+                        const Vec2 x0 = bezierPosition(p, s, t), x1 = bezierPosition(piece, ls, lt);
+                        const Vec3 c0 = bezierColor(p, s, t), c1 = bezierColor(piece, ls, lt);
+                        CHECK(std::fabs(x0.x - x1.x) < 1e-9);
+                        CHECK(std::fabs(x0.y - x1.y) < 1e-9);
+                        for (int ch = 0; ch < 3; ++ch) CHECK(std::fabs(c0[ch] - c1[ch]) < 1e-9);
+                    }
+                if (a + 1 < ks)
+                    for (int e = 0; e < 4; ++e)
+                        CHECK(piece.p[3][e] == pieces[static_cast<size_t>(b * ks + a + 1)].p[0][e]);
+                if (b + 1 < kt)
+                    for (int e = 0; e < 4; ++e)
+                        CHECK(piece.p[e][3] ==
+                              pieces[static_cast<size_t>((b + 1) * ks + a)].p[e][0]);
+            }
+    }
+}

@@ -7,18 +7,19 @@
 namespace gm {
 
 namespace {
-void appendMesh(const GradientMesh& mesh, double tolerance, std::vector<MeshShading>& out) {
+void appendMesh(const GradientMesh& mesh, double tolerance, double minPiece,
+                std::vector<MeshShading>& out) {
     if (mesh.patchCount() == 0) return;
     MeshShading shading;
     shading.patches.reserve(static_cast<size_t>(mesh.patchCount()));
     for (int j = 0; j < mesh.rows(); ++j) {
         for (int i = 0; i < mesh.columns(); ++i) {
             const BezierPatch patch = toBezier(mesh, i, j);
-            const int k = colorSubdivisionCount(patch, tolerance);
-            if (k == 1) {
+            const auto [ks, kt] = exactColorPieces(patch, tolerance, minPiece);
+            if (ks == 1 && kt == 1) {
                 shading.patches.push_back(patch);
             } else {
-                for (const BezierPatch& piece : subdivideUniform(patch, k))
+                for (const BezierPatch& piece : subdivideGrid(patch, ks, kt))
                     shading.patches.push_back(piece);
             }
         }
@@ -34,9 +35,9 @@ std::vector<MeshShading> buildMeshShadings(const Document& doc, const WriteOptio
     for (const GradientMesh& mesh : doc.meshes) {
         if (options.legacy) {
             for (const GradientMesh& piece : splitIntoLegacyMeshes(mesh))
-                appendMesh(piece, tolerance, shadings);
+                appendMesh(piece, tolerance, options.minPiece, shadings);
         } else {
-            appendMesh(mesh, tolerance, shadings);
+            appendMesh(mesh, tolerance, options.minPiece, shadings);
         }
     }
     return shadings;

@@ -58,15 +58,16 @@ std::vector<BezierPatch> meshPatches(const GradientMesh& mesh) {
 }
 
 // Exact mode: patch column i split ku[i] times, patch row j kv[j] times.
-SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, int* maxK) {
+SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, double minPiece, int* maxK) {
     const int C = mesh.columns(), R = mesh.rows();
     const std::vector<BezierPatch> base = meshPatches(mesh);
     std::vector<int> ku(static_cast<size_t>(C), 1), kv(static_cast<size_t>(R), 1);
     for (int j = 0; j < R; ++j) {
         for (int i = 0; i < C; ++i) {
-            const int k = colorSubdivisionCount(base[static_cast<size_t>(j) * C + i], tolerance);
-            ku[i] = std::max(ku[i], k);
-            kv[j] = std::max(kv[j], k);
+            const auto [ks, kt] =
+                exactColorPieces(base[static_cast<size_t>(j) * C + i], tolerance, minPiece);
+            ku[i] = std::max(ku[i], ks);
+            kv[j] = std::max(kv[j], kt);
         }
     }
     std::vector<int> u0(static_cast<size_t>(C) + 1, 0), v0(static_cast<size_t>(R) + 1, 0);
@@ -310,7 +311,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
                 appendMeshGradient(out, base, id, true, true);
                 local.svgPatches += base.columns * int64_t(base.rows);
             } else {
-                const SvgPatchGrid fine = refinedGrid(piece, options.colorTolerance,
+                const SvgPatchGrid fine = refinedGrid(piece, options.colorTolerance, options.minPiece,
                                                       &local.maxSubdivision);
                 appendMeshGradient(out, fine, id, false, true);
                 local.svgPatches += fine.columns * int64_t(fine.rows);

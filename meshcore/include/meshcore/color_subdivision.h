@@ -3,6 +3,7 @@
 // piece's corner colours stays within a tolerance of the true bicubic colour.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "meshcore/bezier_patch.h"
@@ -13,7 +14,18 @@ namespace gm {
 // (0–1 units, max over channels) of the patch colour; maxK when none is.
 int colorSubdivisionCount(const BezierPatch& patch, double tolerance, int maxK = 64);
 
-// The k×k exact sub-patches; piece (a, b) (a along s, b along t) is at index b*k + a.
+// How many pieces exact colour cuts a patch into, ks along s and kt along t: the k of
+// colorSubdivisionCount, but along each direction no more pieces than keep them `minPiece`
+// pixels long (the control polygon's longest run that way over minPiece, rounded up; 0: no
+// limit). Pieces of a pixel or less are what a 1:1 render samples once each, so finer ones only
+// add bytes: fruits.jpg whole at the defaults (16,646 patches, most of 4-5 px) needed 2.8 M
+// pieces at 0.5/255, 357 k with a 1-px limit.
+std::pair<int, int> exactColorPieces(const BezierPatch& patch, double tolerance, double minPiece,
+                                     int maxK = 64);
+
+// The ks×kt exact sub-patches; piece (a, b) (a along s, b along t) is at index b*ks + a.
+std::vector<BezierPatch> subdivideGrid(const BezierPatch& patch, int ks, int kt);
+// subdivideGrid(patch, k, k).
 std::vector<BezierPatch> subdivideUniform(const BezierPatch& patch, int k);
 
 }  // namespace gm

@@ -4,9 +4,9 @@
 // Coordinates stay in canvas pixels with y down; each writer maps them to its page with a y
 // flip. Every patch is written with edge flag 0 (16 points and 4 colours), so a mesh with holes
 // needs no split: the hole is simply where no patch is. Patch colour in these formats is the
-// bilinear interpolation of the corner colours, so each mesh patch is split k×k (exact Bézier
-// subdivision, colorSubdivisionCount) until that stays within WriteOptions::colorTolerance of
-// the mesh's bicubic colour.
+// bilinear interpolation of the corner colours, so each mesh patch is split ks×kt (exact Bézier
+// subdivision, exactColorPieces) until that stays within WriteOptions::colorTolerance of the
+// mesh's bicubic colour or the pieces are WriteOptions::minPiece pixels long.
 #pragma once
 
 #include <cstddef>

@@ -37,6 +37,8 @@ struct WriteOptions {
     bool legacy = false;              // write every mesh as its hole-free pieces
     std::string svgColors = "exact";  // SVG: "exact" (k×k subdivision) or "editable" (bicubic)
     double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
+    double minPiece = 1.0;  // exact colours: no sub-patch shorter than this along s or t,
+                            // canvas pixels (exactColorPieces); 0: no limit
     bool textShading = false;         // EPS/PDF: text DataSource instead of the binary stream
     double rasterScale = 1.0;         // raster outputs: pixels per canvas pixel
     std::array<float, 4> background = {0, 0, 0, 0};  // raster outputs: RGBA 0–1, alpha 0 = none

@@ -7,10 +7,11 @@
 //
 // Colour modes (WriteOptions::svgColors):
 //  - "exact": each patch is split into exact Bézier sub-patches until the bilinear colour that
-//    meshgradient patches interpolate is within WriteOptions::colorTolerance of ours; the
-//    `tensor` attribute carries the exact interior control points. A meshgradient is a regular
-//    grid, so patch column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j
-//    the largest per-patch count (colorSubdivisionCount) over that column / row.
+//    meshgradient patches interpolate is within WriteOptions::colorTolerance of ours, or the
+//    pieces are WriteOptions::minPiece pixels long (exactColorPieces); the `tensor` attribute
+//    carries the exact interior control points. A meshgradient is a regular grid, so patch
+//    column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j the largest
+//    per-patch count along s / t over that column / row.
 //  - "editable": one SVG patch per mesh patch, type="bicubic": Inkscape recomputes colour
 //    derivatives with its own rule (svgEditableDeviation says how far that is from ours).
 //
