@@ -81,43 +81,63 @@ TEST_CASE("formatDecimal is short, exact and locale-free", "[eps][pdf]") {
     CHECK(formatDecimal(-250, 0) == "-250");
 }
 
-TEST_CASE("binary shading data round-trips points and colours in Table 4.36 order", "[eps][pdf]") {
-    const Document doc = holedDocument();
-    const std::vector<MeshShading> shadings = buildMeshShadings(doc, WriteOptions{});
-    REQUIRE(shadings.size() == 1);
-    const MeshShading& sh = shadings[0];
-    const BinaryShading bin = encodeShadingBinary(sh);
-    const size_t perPatch = 1 + 16 * 8 + 4 * 3 * 2;
-    REQUIRE(bin.data.size() == sh.patches.size() * perPatch);
+TEST_CASE(
+    "binary shading data round-trips points and colours in Table 4.36 order, in 16, 24 or "
+    "32-bit coordinates",
+    "[eps][pdf]") {
+    // Pages of 40, 400 and 20000 px: the fewest coordinate bytes that keep a step of 1/1024 px.
+    std::vector<std::pair<Document, int>> cases;
+    for (const auto& [size, bytes] : {std::pair{40, 2}, {400, 3}, {20000, 4}}) {
+        Document doc;
+        doc.width = size;
+        doc.height = size * 3 / 4;
+        doc.meshes.push_back(
+            makeCurvedMesh(3, 2, size * 0.1, size * 0.1, size * 0.75, size * 0.5, 1.0, 2));
+        cases.emplace_back(doc, bytes);
+    }
+    cases.emplace_back(holedDocument(), 3);
     const int order[16][2] = {{0, 0}, {0, 1}, {0, 2}, {0, 3}, {1, 3}, {2, 3}, {3, 3}, {3, 2},
                               {3, 1}, {3, 0}, {2, 0}, {1, 0}, {1, 1}, {1, 2}, {2, 2}, {2, 1}};
     const int corners[4][2] = {{0, 0}, {0, 3}, {3, 3}, {3, 0}};
-    const double xr = bin.decode[1] - bin.decode[0], yr = bin.decode[3] - bin.decode[2];
-    double worstPos = 0, worstCol = 0;
-    for (size_t n = 0; n < sh.patches.size(); ++n) {
-        const BezierPatch& p = sh.patches[n];
-        size_t at = n * perPatch;
-        REQUIRE(bin.data[at] == '\0');
-        ++at;
-        for (const auto& ab : order) {
-            const double x = bin.decode[0] + xr * double(bigEndian(bin.data, at, 4)) / 4294967295.0;
-            const double y =
-                bin.decode[2] + yr * double(bigEndian(bin.data, at + 4, 4)) / 4294967295.0;
-            worstPos = std::max(worstPos, std::fabs(x - p.p[ab[0]][ab[1]].x));
-            worstPos = std::max(worstPos, std::fabs(y - p.p[ab[0]][ab[1]].y));
-            at += 8;
-        }
-        for (const auto& ab : corners) {
-            for (int ch = 0; ch < 3; ++ch) {
-                const double c = double(bigEndian(bin.data, at, 2)) / 65535.0;
-                const double want = std::min(1.0, std::max(0.0, p.c[ab[0]][ab[1]][ch]));
-                worstCol = std::max(worstCol, std::fabs(c - want));
-                at += 2;
+    for (const auto& [doc, bytes] : cases) {
+        for (const MeshShading& sh : buildMeshShadings(doc, WriteOptions{})) {
+            const BinaryShading bin = encodeShadingBinary(sh);
+            INFO(doc.width << " px page, " << sh.patches.size() << " patches");
+            REQUIRE(bin.coordinateBytes == bytes);
+            CHECK(binaryShadingEntries(bin).find("/BitsPerCoordinate " + std::to_string(8 * bytes) +
+                                                 " ") != std::string::npos);
+            const size_t perPatch = 1 + 16 * 2 * bytes + 4 * 3 * 2;
+            REQUIRE(bin.data.size() == sh.patches.size() * perPatch);
+            const double maxCode = std::ldexp(1.0, 8 * bytes) - 1;
+            const double xr = bin.decode[1] - bin.decode[0], yr = bin.decode[3] - bin.decode[2];
+            double worstPos = 0, worstCol = 0;
+            for (size_t n = 0; n < sh.patches.size(); ++n) {
+                const BezierPatch& p = sh.patches[n];
+                size_t at = n * perPatch;
+                REQUIRE(bin.data[at] == '\0');
+                ++at;
+                for (const auto& ab : order) {
+                    const double x =
+                        bin.decode[0] + xr * double(bigEndian(bin.data, at, bytes)) / maxCode;
+                    const double y = bin.decode[2] +
+                                     yr * double(bigEndian(bin.data, at + bytes, bytes)) / maxCode;
+                    worstPos = std::max(worstPos, std::fabs(x - p.p[ab[0]][ab[1]].x));
+                    worstPos = std::max(worstPos, std::fabs(y - p.p[ab[0]][ab[1]].y));
+                    at += 2 * bytes;
+                }
+                for (const auto& ab : corners) {
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const double c = double(bigEndian(bin.data, at, 2)) / 65535.0;
+                        const double want = std::min(1.0, std::max(0.0, p.c[ab[0]][ab[1]][ch]));
+                        worstCol = std::max(worstCol, std::fabs(c - want));
+                        at += 2;
+                    }
+                }
             }
+            CHECK(worstPos <= 0.5 / 1024 + 1e-9);  // half a step, a step ≤ 1/1024 px
+            CHECK(worstCol <= 0.5 / 65535 + 1e-12);
         }
     }
-    CHECK(worstPos < 1e-6);  // ≤ range / 2^33 for a few hundred pixels
-    CHECK(worstCol <= 0.5 / 65535 + 1e-12);
 }
 
 TEST_CASE("EPS has the DSC header, one binary shading per mesh, y flipped", "[eps]") {
@@ -132,7 +152,7 @@ TEST_CASE("EPS has the DSC header, one binary shading per mesh, y flipped", "[ep
     CHECK(eps.find("\n%%LanguageLevel: 3\n") != std::string::npos);
     CHECK(eps.find("0 340 translate 1 -1 scale") != std::string::npos);
     CHECK(countOccurrences(eps, "shfill") == 2);
-    CHECK(countOccurrences(eps, "/BitsPerCoordinate 32 /BitsPerComponent 16 /BitsPerFlag 8") == 2);
+    CHECK(countOccurrences(eps, "/BitsPerCoordinate 24 /BitsPerComponent 16 /BitsPerFlag 8") == 2);
     CHECK(countOccurrences(eps, "currentfile /ASCII85Decode filter") == 2);
     CHECK(eps.find("/FlateDecode filter") != std::string::npos);
     CHECK(eps.find("%%EOF") != std::string::npos);

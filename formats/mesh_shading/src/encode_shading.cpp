@@ -53,15 +53,20 @@ BinaryShading encodeShadingBinary(const MeshShading& shading) {
     out.decode[1] = x1;
     out.decode[2] = y0;
     out.decode[3] = y1;
+    // Coordinates to 1/1024 px or finer: 16 bits up to 64 px, 24 up to 16384 px, else 32.
+    const double range = std::max(x1 - x0, y1 - y0);
+    out.coordinateBytes = range <= 64 ? 2 : range <= 16384 ? 3 : 4;
+    const uint64_t maxCoordinate = (uint64_t(1) << (8 * out.coordinateBytes)) - 1;
+    constexpr uint64_t kMaxComponent = 0xffffu;
 
-    constexpr uint64_t kMaxCoordinate = 0xffffffffu, kMaxComponent = 0xffffu;
-    out.data.reserve(shading.patches.size() * (1 + 16 * 8 + 4 * 6));
+    const int cb = out.coordinateBytes;
+    out.data.reserve(shading.patches.size() * (1 + 16 * 2 * cb + 4 * 6));
     for (const BezierPatch& patch : shading.patches) {
         out.data.push_back('\0');  // edge flag 0: a patch of its own
         for (const auto& ab : kPointOrder) {
             const Vec2& q = patch.p[ab[0]][ab[1]];
-            putBigEndian(out.data, quantise(q.x, x0, x1, kMaxCoordinate), 4);
-            putBigEndian(out.data, quantise(q.y, y0, y1, kMaxCoordinate), 4);
+            putBigEndian(out.data, quantise(q.x, x0, x1, maxCoordinate), cb);
+            putBigEndian(out.data, quantise(q.y, y0, y1, maxCoordinate), cb);
         }
         for (const auto& ab : kColorOrder) {
             const Vec3& c = patch.c[ab[0]][ab[1]];
@@ -73,9 +78,9 @@ BinaryShading encodeShadingBinary(const MeshShading& shading) {
 }
 
 std::string binaryShadingEntries(const BinaryShading& shading) {
-    std::string s =
-        "/ShadingType 7 /ColorSpace /DeviceRGB /BitsPerCoordinate 32 /BitsPerComponent 16 "
-        "/BitsPerFlag 8 /Decode [";
+    std::string s = "/ShadingType 7 /ColorSpace /DeviceRGB /BitsPerCoordinate " +
+                    std::to_string(8 * shading.coordinateBytes) +
+                    " /BitsPerComponent 16 /BitsPerFlag 8 /Decode [";
     for (double d : shading.decode) s += formatDecimal(d, 0) + " ";
     s += "0 1 0 1 0 1]";
     return s;
