@@ -43,6 +43,16 @@ BezierPatch randomPatch(std::mt19937& rng, double amplitude) {
     return p;
 }
 
+// The patch at (s, t) and the piece at its own (ls, lt): the same position and colour.
+void checkSamePoint(const BezierPatch& p, double s, double t, const BezierPatch& piece, double ls,
+                    double lt) {
+    const Vec2 x0 = bezierPosition(p, s, t), x1 = bezierPosition(piece, ls, lt);
+    const Vec3 c0 = bezierColor(p, s, t), c1 = bezierColor(piece, ls, lt);
+    CHECK(std::fabs(x0.x - x1.x) < 1e-9);
+    CHECK(std::fabs(x0.y - x1.y) < 1e-9);
+    for (int ch = 0; ch < 3; ++ch) CHECK(std::fabs(c0[ch] - c1[ch]) < 1e-9);
+}
+
 }  // namespace
 
 TEST_CASE("a patch with bilinear colour needs no subdivision", "[color_subdivision]") {
@@ -114,11 +124,7 @@ TEST_CASE("subdivideUniform pieces reproduce the original patch exactly", "[colo
                 for (double ls : {0.0, 0.3, 0.71, 1.0}) {
                     for (double lt : {0.0, 0.45, 1.0}) {
                         const double s = (a + ls) / k, t = (b + lt) / k;
-                        const Vec2 x0 = bezierPosition(p, s, t), x1 = bezierPosition(piece, ls, lt);
-                        const Vec3 c0 = bezierColor(p, s, t), c1 = bezierColor(piece, ls, lt);
-                        CHECK(std::fabs(x0.x - x1.x) < 1e-9);
-                        CHECK(std::fabs(x0.y - x1.y) < 1e-9);
-                        for (int ch = 0; ch < 3; ++ch) CHECK(std::fabs(c0[ch] - c1[ch]) < 1e-9);
+                        checkSamePoint(p, s, t, piece, ls, lt);
                     }
                 }
             }
@@ -216,11 +222,7 @@ TEST_CASE("subdivideGrid pieces reproduce the original patch exactly, ks and kt 
                 for (double ls : {0.0, 0.4, 1.0})
                     for (double lt : {0.0, 0.6, 1.0}) {
                         const double s = (a + ls) / ks, t = (b + lt) / kt;
-                        const Vec2 x0 = bezierPosition(p, s, t), x1 = bezierPosition(piece, ls, lt);
-                        const Vec3 c0 = bezierColor(p, s, t), c1 = bezierColor(piece, ls, lt);
-                        CHECK(std::fabs(x0.x - x1.x) < 1e-9);
-                        CHECK(std::fabs(x0.y - x1.y) < 1e-9);
-                        for (int ch = 0; ch < 3; ++ch) CHECK(std::fabs(c0[ch] - c1[ch]) < 1e-9);
+                        checkSamePoint(p, s, t, piece, ls, lt);
                     }
                 if (a + 1 < ks)
                     for (int e = 0; e < 4; ++e)
