@@ -140,6 +140,23 @@ TEST_CASE(
     }
 }
 
+TEST_CASE("binary shading coordinates keep a step of 1/1024 px at the width boundaries",
+          "[eps][pdf]") {
+    // One flat patch from (0, 0) to (w, w/2): the decode box is [0, w] x [0, w/2].
+    for (const auto& [w, bytes] : {std::pair{63, 2}, {64, 3}, {16383, 3}, {16384, 4}}) {
+        MeshShading sh;
+        BezierPatch patch{};
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) patch.p[a][b] = {w * a / 3.0, w * b / 6.0};
+        sh.patches.push_back(patch);
+        const BinaryShading bin = encodeShadingBinary(sh);
+        INFO(w << " px");
+        CHECK(bin.decode[1] - bin.decode[0] == w);
+        CHECK(bin.coordinateBytes == bytes);
+        CHECK((std::ldexp(1.0, 8 * bin.coordinateBytes) - 1) >= 1024.0 * w);
+    }
+}
+
 TEST_CASE("EPS has the DSC header, one binary shading per mesh, y flipped", "[eps]") {
     Document doc = holedDocument();
     doc.meshes.push_back(makeCurvedMesh(3, 2, 40, 40, 100, 80, 1.0, 2));

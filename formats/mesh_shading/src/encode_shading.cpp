@@ -53,13 +53,15 @@ BinaryShading encodeShadingBinary(const MeshShading& shading) {
     out.decode[1] = x1;
     out.decode[2] = y0;
     out.decode[3] = y1;
-    // Coordinates to 1/1024 px or finer: 16 bits up to 64 px, 24 up to 16384 px, else 32.
+    // The fewest coordinate bytes (2, 3 or 4) whose step range / (2^(8·bytes) − 1) is at most
+    // 1/1024 px: 16 bits below 64 px, 24 below 16384 px, else 32.
     const double range = std::max(x1 - x0, y1 - y0);
-    out.coordinateBytes = range <= 64 ? 2 : range <= 16384 ? 3 : 4;
-    const uint64_t maxCoordinate = (uint64_t(1) << (8 * out.coordinateBytes)) - 1;
+    int cb = 2;
+    while (cb < 4 && std::ldexp(1.0, 8 * cb) - 1 < range * 1024) ++cb;
+    out.coordinateBytes = cb;
+    const uint64_t maxCoordinate = (uint64_t(1) << (8 * cb)) - 1;
     constexpr uint64_t kMaxComponent = 0xffffu;
 
-    const int cb = out.coordinateBytes;
     out.data.reserve(shading.patches.size() * (1 + 16 * 2 * cb + 4 * 6));
     for (const BezierPatch& patch : shading.patches) {
         out.data.push_back('\0');  // edge flag 0: a patch of its own
