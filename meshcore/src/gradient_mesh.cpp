@@ -2,6 +2,8 @@
 
 #include <cassert>
 
+#include "meshcore/bicubic_colors.h"
+
 namespace gm {
 
 GradientMesh::GradientMesh(int columns, int rows) {
@@ -26,7 +28,7 @@ bool operator==(const CornerTangent& a, const CornerTangent& b) {
 
 bool operator==(const GradientMesh& a, const GradientMesh& b) {
     return a.u == b.u && a.v == b.v && a.nodes == b.nodes && a.slits == b.slits &&
-           a.tangents == b.tangents;
+           a.tangents == b.tangents && a.colorModel == b.colorModel;
 }
 
 bool operator==(const Document& a, const Document& b) {
@@ -76,6 +78,15 @@ PatchHermite patchHermite(const GradientMesh& mesh, int i, int j) {
             c.posT = dv * n->posV;
             c.colT = dv * n->colV;
         }
+    }
+    if (mesh.colorModel == ColorModel::Bicubic) {
+        Vec3 colS[2][2], colT[2][2];
+        bicubicPatchSlopes(mesh, i, j, colS, colT);
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b) {
+                h.corner[a][b].colS = colS[a][b];
+                h.corner[a][b].colT = colT[a][b];
+            }
     }
     return h;
 }

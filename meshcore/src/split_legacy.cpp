@@ -16,6 +16,7 @@ std::vector<int> cutRows(const GradientMesh& mesh) {
 GradientMesh piece(const GradientMesh& mesh, int top, int bottom) {
     const int C = mesh.columns();
     GradientMesh p;
+    p.colorModel = mesh.colorModel;
     p.u = mesh.u;
     p.v.assign(mesh.v.begin() + top, mesh.v.begin() + bottom + 1);
     p.nodes.reserve((static_cast<size_t>(C) + 1) * (bottom - top + 1));

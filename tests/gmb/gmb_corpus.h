@@ -546,8 +546,8 @@ inline std::vector<Malformed> malformedCorpus() {
     }
     {
         std::string p = payload;
-        p[records[0].start + 4] = 2;
-        out.push_back({"cmsh-unknown-flags.gmb", withCmsh(cmsh, p), "unknown mesh flags 2 in section CMSH (mesh 0)"});
+        p[records[0].start + 4] = 4;
+        out.push_back({"cmsh-unknown-flags.gmb", withCmsh(cmsh, p), "unknown mesh flags 4 in section CMSH (mesh 0)"});
     }
     {
         // Mesh 1 cut in the middle of a varint: after its first knot, a knot step whose every
@@ -668,9 +668,9 @@ inline std::vector<Malformed> malformedCorpus() {
                        w.U(W::Size, 1);
                        w.U(W::Count, 0);
                        w.U(W::Count, 0);
-                       smallMesh(w, 2, 0);
+                       smallMesh(w, 4, 0);
                    }),
-                   "unknown mesh flags 2 in section CMS2 (mesh 0)"});
+                   "unknown mesh flags 4 in section CMS2 (mesh 0)"});
     out.push_back({"cms2-weight-out-of-range.gmb", crafted([&](W& w) {
                        w.U(W::Size, 2);
                        w.U(W::Size, 1);

@@ -415,7 +415,8 @@ inline std::vector<std::vector<int64_t>> specDecodeCodedNodes(const std::string&
 struct SpecCmshMesh {
     SpecMeshInfo info;
     int slits = 0, tangents = 0;
-    bool byRule = false;
+    bool byRule = false;  // no colour derivatives stored (flags 1: by the rule, 2: Bicubic model)
+    int flags = 0;
     uint64_t weightsMask = 0;
     SpecWeights weights;                  // every plane's, defaults included
     std::vector<std::vector<int64_t>> q;  // [component][node]
@@ -459,8 +460,9 @@ inline std::vector<SpecCmshMesh> specDecodeCmsh(const std::string& payload) {
         m.slits = static_cast<int>(bytes.varint());
         m.tangents = static_cast<int>(bytes.varint());
         const int flags = bytes.u8();
-        if (flags > 1) throw std::runtime_error("unknown flags");
-        m.byRule = flags & 1;
+        if (flags > 3) throw std::runtime_error("unknown flags");
+        m.flags = flags;
+        m.byRule = flags != 0;
         m.info.F = m.byRule ? 9 : 15;
         for (int f = 1; f < 7; ++f) m.info.e[f] = shared[f];
         m.info.e[0] = static_cast<int>(bytes.svarint());
@@ -576,8 +578,9 @@ inline std::vector<SpecCmshMesh> specDecodeCms2(const std::string& payload, bool
         m.slits = static_cast<int>(U(Count));
         m.tangents = static_cast<int>(U(Count));
         const uint64_t flags = U(Flags);
-        if (flags > 1) throw std::runtime_error("unknown flags");
-        m.byRule = flags & 1;
+        if (flags > 3) throw std::runtime_error("unknown flags");
+        m.flags = static_cast<int>(flags);
+        m.byRule = flags != 0;
         m.info.F = m.byRule ? 9 : 15;
         for (int f = 1; f < 7; ++f) m.info.e[f] = shared[f];
         m.info.e[0] = static_cast<int>(S(KnotExponent));
@@ -682,7 +685,7 @@ inline std::string specCms3AsCms2(const std::string& payload) {
         w.U(W::Size, static_cast<uint64_t>(R));
         w.U(W::Count, static_cast<uint64_t>(m.slits));
         w.U(W::Count, static_cast<uint64_t>(m.tangents));
-        w.U(W::Flags, m.byRule ? 1 : 0);
+        w.U(W::Flags, static_cast<uint64_t>(m.flags));
         w.S(W::KnotExponent, m.info.e[0]);
         for (const std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
             w.S(W::KnotStart, knots->front());
@@ -746,7 +749,7 @@ inline std::string specCms2AsCmsh(const std::string& payload, bool cms3 = false)
     const SpecWeights d = specCmshDefaults();
     for (const SpecCmshMesh& m : specDecodeCms2(payload, cms3)) {
         for (int x : {m.info.C, m.info.R, m.slits, m.tangents}) putVarint(out, static_cast<uint64_t>(x));
-        out.push_back(m.byRule ? 1 : 0);
+        out.push_back(static_cast<char>(m.flags));
         putSvarint(out, m.info.e[0]);
         for (const std::vector<int64_t>* knots : {&m.info.ku, &m.info.kv}) {
             putSvarint(out, knots->front());

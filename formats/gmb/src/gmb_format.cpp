@@ -71,8 +71,10 @@
 //   u32 corner tangent break count, u8 encoding (0 float64 = lossless, 1 quantised (1.0),
 //   2 quantised and range-coded (since 1.1; the writer's compact mode writes such meshes as
 //   CMSH records since 1.2 and in CMS2 sections since 1.3 instead)), u8 flags (bit 0: colour derivatives omitted; the reader
-//   recomputes them with applyColorRule from the decoded mesh; other bits 0, ignored by a 1.x
-//   reader), 7 × i16 exponents e for the quantised fields knot, pos, posU, posV, col, colU,
+//   recomputes them with applyColorRule from the decoded mesh; bit 1: the mesh is in the
+//   Bicubic colour model (meshcore/bicubic_colors.h) — a coded mesh then stores no colour
+//   derivatives, a float64 mesh stores them as zeros, and the reader ignores them; other bits
+//   0, ignored in a float64 MESH), 7 × i16 exponents e for the quantised fields knot, pos, posU, posV, col, colU,
 //   colV (0 for float64), each within ±960. Encodings 1 and 2: a quantised knot, position or colour q of field f stands for
 //   q · 2^e_f; derivatives differ (below).
 //
@@ -174,7 +176,8 @@
 //     M mesh records, back to back; nothing after the last
 //   Mesh record
 //     varints C, R, slit count, corner tangent break count: as in MESH
-//     u8 flags: bit 0 = colour derivatives omitted, as in MESH; the other bits must be 0
+//     u8 flags: bit 0 = colour derivatives omitted, as in MESH; bit 1 = Bicubic colour model
+//       (colour derivatives omitted too); the other bits must be 0
 //     svarint e_knot, within ±960; with the shared exponents it must satisfy encoding 2's
 //       rules (|e_f - e_knot| <= 960, |e_f - e_v| <= 16)
 //     the knots, laid out as KNOT of encodings 1 and 2
@@ -234,7 +237,8 @@
 //   Each mesh, in the stream, in order:
 //     C, R (Size), the slit count and the corner tangent break count (Count), unsigned; the
 //       counts as in MESH
-//     flags (Flags), unsigned: bit 0 = colour derivatives omitted, as in MESH; must be 0 or 1
+//     flags (Flags), unsigned: bit 0 = colour derivatives omitted, as in MESH; bit 1 = Bicubic
+//       colour model (colour derivatives omitted too); must be 0 to 3
 //     e_knot (KnotExponent), signed, within ±960; with the shared exponents it must satisfy
 //       encoding 2's rules (|e_f - e_knot| <= 960, |e_f - e_v| <= 16)
 //     the knots: q(u_0) (KnotStart, signed), then for i = 1 .. C, q(u_i) - q(u_{i-1}) - 1

@@ -39,6 +39,10 @@ enum class Codec : uint8_t { Stored = 0, Deflate = 1, Zstd = 2 };
 // in MESH (1.1) and CMSH records (1.2) are only read.
 enum class Encoding : uint8_t { Float64 = 0, Quantized = 1, Coded = 2 };
 constexpr uint8_t kMeshColorByRule = 0x01;  // colour derivatives omitted, recomputed by the rule
+// The mesh is in the Bicubic colour model (ColorModel::Bicubic). Coded meshes then store no
+// colour derivatives (as with kMeshColorByRule); float64 meshes store them as zeros.
+constexpr uint8_t kMeshColorBicubic = 0x02;
+constexpr uint8_t kMeshFlagsKnown = kMeshColorByRule | kMeshColorBicubic;
 
 constexpr size_t kDocPayloadSize = 12;   // DOCU in version 1.0
 constexpr size_t kMeshPayloadSize = 32;  // MESH in version 1.0

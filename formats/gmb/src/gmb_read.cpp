@@ -77,7 +77,8 @@ struct MeshHeader {
     uint64_t columns = 0, rows = 0, slits = 0, tangents = 0;
     Encoding encoding = Encoding::Float64;
     bool record = false;  // a CMSH mesh record (encoding 2, masked plane weights)
-    bool byRule = false;
+    bool byRule = false;   // colour derivatives omitted (by the rule, or the Bicubic model)
+    bool bicubic = false;  // ColorModel::Bicubic
     int exponent[kFieldCount] = {};
     int components() const { return byRule ? kNodeComponentsByRule : kNodeComponents; }
     uint64_t nodes() const { return satMul(columns + 1, rows + 1); }
@@ -393,7 +394,9 @@ MeshHeader Decoder::readMeshHeader(ByteReader& r, const Section& s) {
     if (h.encoding == Encoding::Coded && minor_ < 1)
         fail(at + "mesh encoding 2 needs format version 1.1 (the file says " + fileVersion() + ")",
              s.start);
-    h.byRule = flags & kMeshColorByRule;
+    h.bicubic = flags & kMeshColorBicubic;
+    h.byRule = h.encoding == Encoding::Coded ? (flags & kMeshFlagsKnown) != 0
+                                             : (flags & kMeshColorByRule) != 0;
     for (int e : h.exponent)
         if (e < -kMaxExponent || e > kMaxExponent)
             fail(at + "quantisation exponent " + std::to_string(e) + " out of range", s.start);
@@ -617,7 +620,10 @@ void Decoder::addMesh(GradientMesh m, const MeshHeader& h, Document& doc) {
     grid_ = CodedGrid();
     const std::string problem = validateMesh(m);
     if (!problem.empty()) throw Error(meshName_ + ": " + problem, file_);
-    if (h.byRule) applyColorRule(m);
+    if (h.bicubic)
+        m.colorModel = ColorModel::Bicubic;
+    else if (h.byRule)
+        applyColorRule(m);
     doc.meshes.push_back(std::move(m));
 }
 
@@ -675,8 +681,9 @@ void Decoder::readMeshRecord(ByteReader& r, const int (&shared)[kFieldCount], Do
     const std::string problem = countProblem(h);
     if (!problem.empty()) r.fail(problem);
     const uint8_t flags = r.u8();
-    if (flags & ~kMeshColorByRule) r.fail("unknown mesh flags " + std::to_string(flags));
-    h.byRule = flags & kMeshColorByRule;
+    if (flags & ~kMeshFlagsKnown) r.fail("unknown mesh flags " + std::to_string(flags));
+    h.byRule = flags & kMeshFlagsKnown;
+    h.bicubic = flags & kMeshColorBicubic;
     const int knot = readExponent(r);
     std::copy(std::begin(shared), std::end(shared), h.exponent);
     h.exponent[kKnot] = knot;
@@ -737,8 +744,9 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
     const std::string problem = countProblem(h);
     if (!problem.empty()) r.fail(problem);
     const uint64_t flags = in.getUnsigned(StreamField::Flags);
-    if (flags & ~uint64_t(kMeshColorByRule)) r.fail("unknown mesh flags " + std::to_string(flags));
-    h.byRule = flags & kMeshColorByRule;
+    if (flags & ~uint64_t(kMeshFlagsKnown)) r.fail("unknown mesh flags " + std::to_string(flags));
+    h.byRule = flags & kMeshFlagsKnown;
+    h.bicubic = flags & kMeshColorBicubic;
     const int64_t knot = in.getSigned(StreamField::KnotExponent);
     if (knot < -kMaxExponent || knot > kMaxExponent)
         r.fail("quantisation exponent " + std::to_string(knot) + " out of range");

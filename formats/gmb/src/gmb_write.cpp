@@ -66,7 +66,8 @@ private:
 // A mesh quantised for encoding 2, as a CMS2 or CMS3 stream codes it: everything but the
 // node planes as the integers the stream holds, in their order.
 struct CodedMesh {
-    bool byRule = false;
+    bool byRule = false;   // no colour derivatives stored
+    bool bicubic = false;  // ColorModel::Bicubic (implies byRule)
     CodedGrid grid;  // knots, spans, exponents (all seven) and node planes
     struct SlitInts {
         uint64_t row = 0, i0 = 0, i1 = 0;
@@ -96,7 +97,7 @@ bool sameSharedExponents(const MeshPayloads& a, const MeshPayloads& b) {
     return std::equal(x + kPos, x + kFieldCount, y + kPos);
 }
 
-// The MESH payload of a float64 mesh (no flags, zero exponents).
+// The MESH payload of a float64 mesh (flags: the colour model only; zero exponents).
 std::string float64MeshHeader(const GradientMesh& m) {
     ByteWriter w;
     w.u32(static_cast<uint32_t>(m.columns()));
@@ -104,7 +105,7 @@ std::string float64MeshHeader(const GradientMesh& m) {
     w.u32(static_cast<uint32_t>(m.slits.size()));
     w.u32(static_cast<uint32_t>(m.tangents.size()));
     w.u8(static_cast<uint8_t>(Encoding::Float64));
-    w.u8(0);
+    w.u8(m.colorModel == ColorModel::Bicubic ? kMeshColorBicubic : 0);
     for (int f = 0; f < kFieldCount; ++f) w.i16(0);
     return std::move(w.str());
 }
@@ -256,6 +257,7 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
 
     CodedMesh out;
     out.byRule = byRule;
+    out.bicubic = m.colorModel == ColorModel::Bicubic;
     CodedGrid& g = out.grid;
     g.columns = C;
     g.rows = R;
@@ -340,7 +342,8 @@ void writeStreamMesh(CompactStreamWriter& w, const CodedMesh& m) {
     w.putUnsigned(StreamField::Size, static_cast<uint64_t>(g.rows));
     w.putUnsigned(StreamField::Count, m.slits.size());
     w.putUnsigned(StreamField::Count, m.tangents.size());
-    w.putUnsigned(StreamField::Flags, m.byRule ? kMeshColorByRule : 0);
+    w.putUnsigned(StreamField::Flags, m.bicubic ? kMeshColorBicubic
+                                                : (m.byRule ? kMeshColorByRule : 0));
     w.putSigned(StreamField::KnotExponent, g.exponent[kKnot]);
     for (const std::vector<int64_t>* knots : {&g.knotU, &g.knotV}) {
         w.putSigned(StreamField::KnotStart, knots->front());
@@ -387,7 +390,8 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbSt
     bool coded = false;
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         const GradientMesh& m = doc.meshes[k];
-        if (!compact || !encodeCoded(m, followsColorRule(m), shift, meshes[k]))
+        const bool noSlopes = m.colorModel == ColorModel::Bicubic || followsColorRule(m);
+        if (!compact || !encodeCoded(m, noSlopes, shift, meshes[k]))
             meshes[k] = encodeFloat64(m);
         coded = coded || meshes[k].coded;
     }

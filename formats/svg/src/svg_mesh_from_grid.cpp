@@ -155,7 +155,7 @@ GradientMesh meshFromPatchGrid(const SvgPatchGrid& g, const std::string& fileNam
 
     // Colour derivatives.
     if (g.bicubic) {
-        applyColorRule(mesh);
+        mesh.colorModel = ColorModel::Bicubic;  // exactly what Inkscape draws from the file
     } else {
         std::vector<Vec3> line;
         for (int r = 0; r <= R; ++r) {

@@ -83,6 +83,15 @@ struct CornerTangent {
     Vec3 colU;
 };
 
+// How a mesh's colour varies inside its patches between the node colours.
+//  - Hermite: free colour derivatives, the node's colU/colV (Ferguson patches, paper §3). The
+//    smallest raster error per patch, but no vector format stores such slopes.
+//  - Bicubic: the SVG 2 `type="bicubic"` rule exactly as Inkscape computes it
+//    (meshcore/bicubic_colors.h): every patch's colour slopes follow from node colours and
+//    corner positions alone; colU/colV are ignored (kept zero). One mesh patch is one SVG patch
+//    that Inkscape draws in our colours.
+enum class ColorModel { Hermite, Bicubic };
+
 class GradientMesh {
 public:
     GradientMesh() = default;
@@ -104,6 +113,7 @@ public:
     std::vector<Node> nodes;             // (C+1)(R+1), row-major: index j*(C+1)+i
     std::vector<Slit> slits;             // holes
     std::vector<CornerTangent> tangents;  // u-derivative breaks (legacy pieces only)
+    ColorModel colorModel = ColorModel::Hermite;
 };
 
 bool operator==(const Slit& a, const Slit& b);
@@ -128,7 +138,8 @@ struct PatchHermite {
     HermiteCorner corner[2][2];
 };
 
-// Resolves node copies at slits, slit-end ±d tangents and corner tangent breaks.
+// Resolves node copies at slits, slit-end ±d tangents and corner tangent breaks; for a Bicubic
+// mesh the colour slopes are the rule's (bicubicPatchSlopes).
 PatchHermite patchHermite(const GradientMesh& mesh, int i, int j);
 
 }  // namespace gm
