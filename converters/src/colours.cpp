@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "bicubic_fit.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/evaluate.h"
@@ -241,110 +242,6 @@ void measure(const GradientMesh& mesh, const RgbaImage& image, const Region& reg
     e.maxAbs = maxAbs;
 }
 
-// How the colour rule's slopes (every slot of `L`, per channel) move with the value copies
-// near colours `mesh` holds: rows slots, columns value copies, one matrix per channel. The rule
-// is linear in the values once its branch at each slot (monotone clamp, extremum) is fixed, so
-// a small step of the values gives that linear map where no branch is at a tie. A slot's slope
-// reads the values within two nodes along its line (the end slopes reach one further than the
-// inner ones), so in a mesh without slits or tangent breaks the values of nodes five apart in
-// both directions are stepped together; otherwise one value at a time (small meshes only).
-// `mesh` must follow the rule. False when the mesh is too large for that.
-bool ruleJacobian(const GradientMesh& mesh, const SlotLayout& L,
-                  std::vector<Eigen::SparseMatrix<double>>& J) {
-    const bool grid = mesh.slits.empty() && mesh.tangents.empty();
-    if (!grid && L.nCopies > 600) return false;
-    const int C = mesh.columns(), n = L.total(), nv = L.nCopies;
-    constexpr double kStep = 1e-6;
-    GradientMesh work = mesh;
-    Eigen::MatrixXd base, x;
-    gatherColors(work, L, base);
-    std::vector<std::vector<Eigen::Triplet<double>>> entries(3);
-    for (int k = 0; k < nv; ++k)
-        for (int ch = 0; ch < 3; ++ch) entries[ch].emplace_back(k, k, 1.0);
-    const int groups = grid ? 25 : nv;
-    for (int g = 0; g < groups; ++g) {
-        x = base;
-        auto stepped = [&](int k) {
-            return grid ? (k % (C + 1)) % 5 == g % 5 && (k / (C + 1)) % 5 == g / 5 : k == g;
-        };
-        for (int k = 0; k < nv; ++k)
-            if (stepped(k))
-                for (int ch = 0; ch < 3; ++ch) x(k, ch) += kStep;
-        scatterColors(work, L, x);
-        applyColorRule(work);
-        gatherColors(work, L, x);
-        for (int row = nv; row < n; ++row) {
-            // The stepped value this slot reads: itself (group of one), or the stepped node in
-            // its row (u-slopes) or column (v-slopes) within two nodes.
-            int source = g;
-            if (grid) {
-                const bool uSlope = row < L.vOffset();
-                const int node = uSlope ? row - L.uOffset() : row - L.vOffset();
-                const int i = node % (C + 1), j = node / (C + 1);
-                source = -1;
-                for (int d = -2; d <= 2 && source < 0; ++d) {
-                    const int ii = uSlope ? i + d : i, jj = uSlope ? j : j + d;
-                    if (ii < 0 || ii > C || jj < 0 || jj > mesh.rows()) continue;
-                    if (stepped(jj * (C + 1) + ii)) source = jj * (C + 1) + ii;
-                }
-                if (source < 0) continue;
-            }
-            for (int ch = 0; ch < 3; ++ch) {
-                const double d = (x(row, ch) - base(row, ch)) / kStep;
-                if (d != 0) entries[ch].emplace_back(row, source, d);
-            }
-        }
-    }
-    J.assign(3, Eigen::SparseMatrix<double>(n, nv));
-    for (int ch = 0; ch < 3; ++ch) J[ch].setFromTriplets(entries[ch].begin(), entries[ch].end());
-    return true;
-}
-
-// The least-squares node colours when every colour slope follows the rule (applyColorRule):
-// the normal equations A x = rhs of all slots restricted to x = J c per channel, J the rule's
-// linear map at the current branches; a few rounds, as the branches move with the colours.
-// `mesh` follows the rule on return (left as it is when the mesh is too large, see
-// ruleJacobian, or a solve fails).
-void fitByRule(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatrix<double>& A,
-               const Eigen::MatrixXd& rhs) {
-    applyColorRule(mesh);
-    auto cost = [&](const Eigen::MatrixXd& x) {
-        double f = 0;
-        for (int ch = 0; ch < 3; ++ch)
-            f += x.col(ch).dot(A * x.col(ch)) - 2 * x.col(ch).dot(rhs.col(ch));
-        return f;
-    };
-    Eigen::MatrixXd x;
-    gatherColors(mesh, L, x);
-    double best = cost(x);
-    GradientMesh bestMesh = mesh;
-    for (int round = 0; round < 3; ++round) {
-        std::vector<Eigen::SparseMatrix<double>> J;
-        if (!ruleJacobian(mesh, L, J)) return;
-        Eigen::MatrixXd c(L.nCopies, 3);
-        for (int ch = 0; ch < 3; ++ch) {
-            const Eigen::SparseMatrix<double> Jt = J[ch].transpose();
-            const Eigen::SparseMatrix<double> Ar = Jt * A * J[ch];
-            const Eigen::VectorXd br = Jt * rhs.col(ch);
-            Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Ar);
-            if (ldlt.info() != Eigen::Success) return;
-            c.col(ch) = ldlt.solve(br);
-            if (ldlt.info() != Eigen::Success || !c.col(ch).allFinite()) return;
-        }
-        gatherColors(mesh, L, x);
-        x.topRows(L.nCopies) = c;
-        scatterColors(mesh, L, x);
-        applyColorRule(mesh);
-        gatherColors(mesh, L, x);
-        const double f = cost(x);
-        if (f < best) {
-            best = f;
-            bestMesh = mesh;
-        }
-    }
-    mesh = std::move(bestMesh);
-}
-
 // The least-squares node colours with every colour slope held at its value in `mesh`: the
 // normal equations' value rows, the slopes' part moved to the right-hand side.
 void fitValues(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatrix<double>& A,
@@ -368,6 +265,10 @@ void fitValues(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatri
 void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
                const std::vector<PixelSample>& samples, int meshIndex, double regularization,
                ColorMode mode, const GradientMesh* guess = nullptr) {
+    if (mesh.colorModel == ColorModel::Bicubic) {
+        fitBicubicColors(mesh, image, region, samples, meshIndex, regularization);
+        return;
+    }
     const SlotLayout L(mesh);
     const int C = mesh.columns(), P = mesh.patchCount();
     std::vector<PatchSlots> slots(static_cast<size_t>(P));
@@ -490,10 +391,6 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
             for (int ch = 0; ch < 3; ++ch) rhs(k, ch) += lambda * x0(k, ch);
         }
     }
-    if (mode == ColorMode::FitRule) {
-        fitByRule(mesh, L, A, rhs);
-        return;
-    }
     if (mode == ColorMode::FitValues) {
         fitValues(mesh, L, A, rhs);
         return;
@@ -590,14 +487,32 @@ void sampleNodeColors(GradientMesh& mesh, const RgbaImage& image, const Region& 
 
 namespace {
 
+// The mesh in the Bicubic model: its stored colour slopes cleared (the model ignores them).
+GradientMesh asBicubic(GradientMesh mesh) {
+    mesh.colorModel = ColorModel::Bicubic;
+    auto clear = [](Node& n) { n.colU = n.colV = Vec3{}; };
+    for (Node& n : mesh.nodes) clear(n);
+    for (Slit& s : mesh.slits) {
+        for (Node& n : s.below) clear(n);
+        s.left.colU = s.right.colU = Vec3{};
+    }
+    for (CornerTangent& t : mesh.tangents) t.colU = Vec3{};
+    return mesh;
+}
+
 // The sampled solution computeColors starts from: every node colour sampled; the slopes by the
-// rule, or in FitValues mode the geometry's own.
+// rule (a Hermite mesh), the Bicubic model (Sampled, FitBicubic, and FitValues of a Bicubic
+// mesh), or in FitValues mode the geometry's own.
 GradientMesh sampledStart(const GradientMesh& geometry, const RgbaImage& image,
                           const Region& region, ColorMode mode) {
     const std::string problem = validateMesh(geometry);
     if (!problem.empty()) throw Error("colours: invalid mesh: " + problem);
     GradientMesh mesh = geometry;
+    mesh.colorModel = ColorModel::Hermite;
     sampleNodeColors(mesh, image, region);
+    const bool bicubic = mode == ColorMode::Sampled || mode == ColorMode::FitBicubic ||
+                         (mode == ColorMode::FitValues && geometry.colorModel == ColorModel::Bicubic);
+    if (bicubic) return asBicubic(std::move(mesh));
     if (mode != ColorMode::FitValues) return mesh;
     GradientMesh withSlopes = geometry;
     for (size_t k = 0; k < withSlopes.nodes.size(); ++k)

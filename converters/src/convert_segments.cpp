@@ -304,8 +304,9 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// A C×R mesh of straight patches over the whole canvas, colours fitted to every pixel.
-GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
+// A C×R mesh of straight patches over the whole canvas, colours fitted to every pixel in the
+// conversion's colour mode.
+GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, ColorMode mode) {
     const int C = std::max(1, static_cast<int>(std::lround(image.width / patchSize)));
     const int R = std::max(1, static_cast<int>(std::lround(image.height / patchSize)));
     GradientMesh m(C, R);
@@ -324,6 +325,7 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads) {
     all.pixelCount = image.width * image.height;
     ColorOptions co;
     co.threads = threads;
+    co.mode = mode;
     return computeColors(m, image, all, co).mesh;
 }
 }  // namespace
@@ -541,7 +543,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     t0 = Clock::now();
     const bool anyFailed = std::find(ok.begin(), ok.end(), 0) != ok.end();
     GradientMesh base = baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
-                                 options.convert.threads);
+                                 options.convert.threads, options.convert.colors);
     const double baseSeconds = since(t0);
     rep.basePatches = base.patchCount();
     doc.meshes.push_back(std::move(base));

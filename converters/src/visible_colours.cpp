@@ -70,8 +70,9 @@ Document refitWithSamples(const Document& doc, const RgbaImage& image,
                 if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
             region.pixelCount = pixels[k];
             ColorOptions co;
-            const bool keepRule = mode != ColorMode::FitRule && followsColorRule(doc.meshes[k]);
-            co.mode = keepRule ? ColorMode::FitRule : mode;
+            // A Bicubic mesh stays Bicubic: its colours are all there is to refit.
+            const bool bicubic = doc.meshes[k].colorModel == ColorModel::Bicubic;
+            co.mode = bicubic ? ColorMode::FitBicubic : mode;
             co.threads = 1;
             co.warmStart = true;  // the colours given are near the refit's
             out.meshes[k] =
@@ -135,8 +136,8 @@ QuantisedColors colorsForQuantisation(const Document& doc, const RgbaImage& imag
     // A refit that fails (a solve, or a file the writer refuses) leaves the quantised document:
     // the file is still right, only not improved, and `how` says why.
     try {
-        if (mode == ColorMode::FitRule) {
-            consider(refit(quantised, ColorMode::FitRule), "rule refit");
+        if (mode == ColorMode::FitBicubic) {
+            consider(refit(quantised, ColorMode::FitBicubic), "bicubic refit");
             return best;
         }
         // Fit: all colours refitted to the quantised geometry, their slopes quantised, then the

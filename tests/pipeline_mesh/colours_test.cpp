@@ -89,7 +89,7 @@ TEST_CASE("region colour samples come from the region's side only", "[colours]")
     CHECK_THROWS_AS(sampleRegionColor(img, wrong, {1, 1}), Error);
 }
 
-TEST_CASE("sampled mode samples nodes and follows the colour rule", "[colours]") {
+TEST_CASE("sampled mode samples nodes into a bicubic mesh", "[colours]") {
     const auto s = disk();
     const RgbaImage img = gmtest::paint(512, 512, smooth);
     GridOptions go;
@@ -98,7 +98,7 @@ TEST_CASE("sampled mode samples nodes and follows the colour rule", "[colours]")
     ColorOptions co;
     co.mode = ColorMode::Sampled;
     const ColorResult r = computeColors(geo, img, s.region, co);
-    CHECK(followsColorRule(r.mesh, 1e-9));
+    CHECK(r.mesh.colorModel == ColorModel::Bicubic);
     const Node& n = r.mesh.node(2, 2);
     const Vec3 e = smooth(n.pos.x, n.pos.y);
     CHECK(n.col.g == Approx(e.g).margin(0.01));
@@ -129,10 +129,9 @@ TEST_CASE("a linear colour ramp is fitted by a 1x1 mesh", "[colours]") {
     CHECK(again.error.meanAbs == Approx(fit.error.meanAbs).margin(1e-6));
 }
 
-TEST_CASE("fit beats sampled on a smooth non-linear image at equal patch count, the rule fit "
-          "lies between them",
+TEST_CASE("fit beats sampled on a smooth non-linear image at equal patch count, the bicubic "
+          "fit lies between them",
           "[colours][rule]") {
-    // The rule fit on hole-free grids up to 12x12 (its Jacobian from nodes stepped five apart).
     const auto s = disk();
     const RgbaImage img = gmtest::paint(512, 512, smooth);
     for (int cells : {3, 6, 12}) {
@@ -144,7 +143,7 @@ TEST_CASE("fit beats sampled on a smooth non-linear image at equal patch count, 
         const ColorResult sampled = computeColors(geo, img, s.region, co);
         co.mode = ColorMode::Fit;
         const ColorResult fit = computeColors(geo, img, s.region, co);
-        co.mode = ColorMode::FitRule;
+        co.mode = ColorMode::FitBicubic;
         const ColorResult rule = computeColors(geo, img, s.region, co);
         WARN(cells << "x" << cells << " disk, smooth image: E fit " << fit.error.meanAbs
                    << " (PSNR " << fit.error.psnr << "), E sampled " << sampled.error.meanAbs
@@ -152,7 +151,7 @@ TEST_CASE("fit beats sampled on a smooth non-linear image at equal patch count, 
                    << " (PSNR " << rule.error.psnr << ")");
         CHECK(fit.error.meanAbs < sampled.error.meanAbs);
         CHECK(fit.error.rmse < sampled.error.rmse);
-        CHECK(followsColorRule(rule.mesh, 1e-12));
+        CHECK(rule.mesh.colorModel == ColorModel::Bicubic);
         CHECK(rule.error.rmse < sampled.error.rmse);
         CHECK(fit.error.rmse <= rule.error.rmse * 1.001);
     }
@@ -258,58 +257,54 @@ TEST_CASE("the fit recovers a mesh's own colours through slits and tangent break
     CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
 }
 
-TEST_CASE("the rule fit recovers colours that follow the rule, through slits and breaks",
+TEST_CASE("the bicubic fit recovers a bicubic mesh's colours, through slits and breaks",
           "[colours][rule]") {
     const auto s = slitRectangle();
     GradientMesh truth = paintedSlitGrid(s);
-    applyColorRule(truth);
+    truth.colorModel = ColorModel::Bicubic;
     const auto [img, region] = renderedTarget(truth, s.region);
     GradientMesh geometry = truth;
     for (Node& n : geometry.nodes) n.col = n.colU = n.colV = Vec3{};
     ColorOptions co;
-    co.mode = ColorMode::FitRule;
+    co.mode = ColorMode::FitBicubic;
     const ColorResult fit = computeColors(geometry, img, region, co);
-    WARN("recovering a rule mesh's colours with the rule fit: E " << fit.error.meanAbs << ", max "
-                                                                  << fit.error.maxAbs);
-    CHECK(followsColorRule(fit.mesh, 1e-12));
+    WARN("recovering a bicubic mesh's colours with the bicubic fit: E " << fit.error.meanAbs
+                                                                       << ", max " << fit.error.maxAbs);
+    CHECK(fit.mesh.colorModel == ColorModel::Bicubic);
     CHECK(fit.error.meanAbs < 0.05);
     CHECK(fit.mesh.node(2, 1).col.g == Approx(truth.node(2, 1).col.g).margin(0.01));
     CHECK(fit.mesh.slits[0].below[0].col.r == Approx(truth.slits[0].below[0].col.r).margin(0.01));
 }
 
-TEST_CASE("the rule fit recovers a rule mesh's own colours on a 12x12 grid", "[colours][rule]") {
+TEST_CASE("the bicubic fit recovers a bicubic mesh's own colours on a 12x12 grid and a large "
+          "slit grid",
+          "[colours][rule]") {
     const auto s = disk();
     GridOptions go;
     go.columns = go.rows = 12;
     GradientMesh truth = buildGrid(s.tri, s.map, go);
     for (Node& n : truth.nodes) n.col = smooth(n.pos.x, n.pos.y);
-    applyColorRule(truth);
+    truth.colorModel = ColorModel::Bicubic;
     const auto [target, region] = renderedTarget(truth, s.region);
     ColorOptions co;
-    co.mode = ColorMode::FitRule;
+    co.mode = ColorMode::FitBicubic;
     const ColorResult back = computeColors(truth, target, region, co);
-    CHECK(followsColorRule(back.mesh, 1e-12));
+    CHECK(back.mesh.colorModel == ColorModel::Bicubic);
     CHECK(back.error.meanAbs < 0.05);
-}
 
-TEST_CASE("a slit mesh too large for the rule fit keeps sampled colours, which follow the rule",
-          "[colours][rule]") {
-    const auto s = slitRectangle();
-    GridOptions go;
+    // Slit meshes of any size are fitted (no dense Jacobian), and beat the sampled colours.
+    const auto r = slitRectangle();
     go.columns = 30;
     go.rows = 24;
     go.slits = {{100, 50, 150}};
-    const GradientMesh geo = buildGrid(s.tri, s.map, go);
+    const GradientMesh geo = buildGrid(r.tri, r.map, go);
     REQUIRE(geo.slits.size() == 1);
     REQUIRE(geo.nodes.size() > 600);
     const RgbaImage img = gmtest::paint(256, 256, smooth);
-    ColorOptions co;
-    co.mode = ColorMode::FitRule;
-    const ColorResult rule = computeColors(geo, img, s.region, co);
+    const ColorResult fitted = computeColors(geo, img, r.region, co);
     co.mode = ColorMode::Sampled;
-    const ColorResult sampled = computeColors(geo, img, s.region, co);
-    CHECK(followsColorRule(rule.mesh, 1e-12));
-    CHECK(rule.error.meanAbs == Approx(sampled.error.meanAbs).margin(1e-9));
+    const ColorResult sampled = computeColors(geo, img, r.region, co);
+    CHECK(fitted.error.rmse < sampled.error.rmse);
 }
 
 TEST_CASE("the values fit recovers a mesh's colour values with its slopes held, through slits",

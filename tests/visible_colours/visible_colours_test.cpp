@@ -26,7 +26,7 @@ struct Whole {
 
 const Whole& fish(ColorMode mode) {
     static Whole fit, rule;
-    Whole& w = mode == ColorMode::FitRule ? rule : fit;
+    Whole& w = mode == ColorMode::FitBicubic ? rule : fit;
     if (w.doc.meshes.empty()) {
         w.image = readImage(std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg");
         SegmentConvertOptions o;
@@ -127,16 +127,16 @@ TEST_CASE("a quantisation that costs nothing keeps the document; rule colours ke
     CHECK(same.how == "as is");
     CHECK(same.error.rmse == same.unquantised.rmse);
 
-    const Whole& r = fish(ColorMode::FitRule);
+    const Whole& r = fish(ColorMode::FitBicubic);
     const auto quantise = gmbAt(6);
     const FitError plain = errorOf(r, quantise(r.doc));
     const QuantisedColors q =
-        colorsForQuantisation(r.doc, r.image, r.all, ColorMode::FitRule, quantise);
-    WARN("HappyFish at 6 patches a region, rule colours, level 6: "
+        colorsForQuantisation(r.doc, r.image, r.all, ColorMode::FitBicubic, quantise);
+    WARN("HappyFish at 6 patches a region, bicubic colours, level 6: "
          << plain.psnr << " -> " << q.error.psnr << " dB (" << q.how << ")");
-    CHECK((q.how == "as is" || q.how == "rule refit"));
+    CHECK((q.how == "as is" || q.how == "bicubic refit"));
     CHECK(q.error.rmse <= plain.rmse);
-    for (const GradientMesh& m : q.doc.meshes) CHECK(followsColorRule(m, 1e-9));
+    for (const GradientMesh& m : q.doc.meshes) CHECK(m.colorModel == ColorModel::Bicubic);
 }
 
 TEST_CASE("a refit that fails leaves the quantised document and says why", "[visible][gmb]") {

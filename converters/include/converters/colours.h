@@ -2,8 +2,8 @@
 // a mesh whose geometry is fixed.
 //
 //  - Sampled (the paper): node colours are bilinear samples of the image taken from the region's
-//    side only; colour derivatives follow the monotone-cubic rule (applyColorRule), so formats
-//    may omit them.
+//    side only; colour derivatives follow the monotone-cubic rule (the Bicubic model), so
+//    formats omit them.
 //  - Fit (beyond the paper): with geometry fixed, every pixel's colour is linear in the node
 //    colours and colour derivatives (the patch's Hermite basis at the pixel's (s,t)). One
 //    sparse least-squares solve over the region's pixels fits them all; pixel → patch and (s,t)
@@ -24,13 +24,14 @@
 
 namespace gm {
 
-// FitRule: as Fit, but only node colours are unknowns and every colour slope follows the rule
-// (applyColorRule): files may omit the slopes, and the editable SVG export is Inkscape's own
-// bicubic rule on our colours. Meshes too large for its solve (over 600 value copies with
-// slits or tangent breaks) keep the sampled solution.
+// FitBicubic: only node colours are unknowns, in the Bicubic colour model (every slope by the
+// SVG 2 bicubic rule, meshcore/bicubic_colors.h): nonlinear least squares through the rule
+// (bicubic_fit.h). The result is a Bicubic mesh: one SVG patch per patch, drawn by Inkscape
+// in our colours. Sampled also gives a Bicubic mesh.
 // FitValues: only node colours are unknowns; every colour slope keeps the value it has in the
-// geometry passed in (for a refit after the slopes were quantised).
-enum class ColorMode { Sampled, Fit, FitRule, FitValues };
+// geometry passed in (for a refit after the slopes were quantised); a Bicubic geometry is
+// refitted as FitBicubic.
+enum class ColorMode { Sampled, Fit, FitBicubic, FitValues };
 
 struct ColorOptions {
     ColorMode mode = ColorMode::Fit;

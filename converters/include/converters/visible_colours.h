@@ -41,14 +41,14 @@ Document refitVisibleColors(const Document& doc, const RgbaImage& image,
 // quantise(doc) and, when quantisation raised the squared error over `mask` by more than 1 %:
 //  - Fit: all colours refitted to the quantised geometry, quantised, then the values refitted
 //    with those quantised slopes held (FitValues);
-//  - FitRule: colours refitted by the rule to the quantised geometry;
+//  - FitBicubic: colours refitted in the Bicubic model to the quantised geometry;
 //  - Sampled: none (the paper's colours stay the paper's).
 // each quantised again. The one with the least squared error over `mask` is returned.
 struct QuantisedColors {
     Document doc;          // quantise(...) of the candidate kept
     FitError error;        // its figures over `mask` (compareOverMask)
     FitError unquantised;  // `doc`'s own
-    // "as is", "refit" (Fit) or "rule refit" (FitRule); when a refit threw gm::Error,
+    // "as is", "refit" (Fit) or "bicubic refit" (FitBicubic); when a refit threw gm::Error,
     // "as is; the refit failed: " and its reason.
     std::string how;
 };

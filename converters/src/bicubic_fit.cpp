@@ -1,0 +1,241 @@
+// Gauss–Newton colour fit through the bicubic rule; see bicubic_fit.h.
+#include "bicubic_fit.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <limits>
+
+#include "meshcore/bicubic_colors.h"
+#include "meshcore/evaluate.h"
+
+namespace gm {
+namespace {
+
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Rhs12 = Eigen::Matrix<double, 12, 3>;
+
+// One patch's normal equations in its 12 local unknowns, shared by the channels: corner
+// values, s-slopes, t-slopes, each in corner order k = 2a + b.
+struct PatchNormals {
+    int i = 0, j = 0;
+    Mat12 M = Mat12::Zero();
+    Rhs12 B = Rhs12::Zero();
+};
+
+std::vector<PatchNormals> patchNormals(const GradientMesh& mesh, const RgbaImage& image,
+                                       const Region& region,
+                                       const std::vector<PixelSample>& samples, int meshIndex) {
+    const int C = mesh.columns();
+    std::vector<int> slot(static_cast<size_t>(mesh.patchCount()), -1);
+    std::vector<PatchNormals> out;
+    for (size_t p = 0; p < samples.size(); ++p) {
+        const PixelSample& ps = samples[p];
+        if (!region.mask[p] || ps.mesh != meshIndex || ps.patch < 0) continue;
+        int& k = slot[static_cast<size_t>(ps.patch)];
+        if (k < 0) {
+            k = static_cast<int>(out.size());
+            out.emplace_back();
+            out.back().i = ps.patch % C;
+            out.back().j = ps.patch / C;
+        }
+        double hs[4], ht[4];
+        hermiteBasis(ps.s, hs);
+        hermiteBasis(ps.t, ht);
+        Eigen::Matrix<double, 12, 1> c;
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b) {
+                c(2 * a + b) = hs[a] * ht[b];
+                c(4 + 2 * a + b) = hs[2 + a] * ht[b];
+                c(8 + 2 * a + b) = hs[a] * ht[2 + b];
+            }
+        const float* col = image.at(static_cast<int>(p % image.width),
+                                    static_cast<int>(p / image.width));
+        PatchNormals& n = out[static_cast<size_t>(k)];
+        n.M.selfadjointView<Eigen::Upper>().rankUpdate(c);
+        for (int ch = 0; ch < 3; ++ch) n.B.col(ch) += c * static_cast<double>(col[ch]);
+    }
+    for (PatchNormals& n : out) n.M = n.M.selfadjointView<Eigen::Upper>();
+    return out;
+}
+
+// The 12 local unknowns of a patch as a linear map T of the node-copy colours of one channel:
+// row r of T is Σ weight · e_copy; `copies` lists the columns used.
+struct LocalMap {
+    std::vector<int> copies;
+    Eigen::Matrix<double, 12, Eigen::Dynamic> T;
+};
+
+int columnOf(LocalMap& m, int copy) {
+    for (size_t k = 0; k < m.copies.size(); ++k)
+        if (m.copies[k] == copy) return static_cast<int>(k);
+    m.copies.push_back(copy);
+    m.T.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(m.copies.size()));
+    m.T.col(m.T.cols() - 1).setZero();
+    return static_cast<int>(m.copies.size()) - 1;
+}
+
+LocalMap localMap(const PatchColorRule& rule, int ch) {
+    LocalMap m;
+    m.copies.reserve(16);
+    m.T.resize(12, 0);
+    auto addForm = [&](int row, const RuleSlope& f) {
+        for (int k = 0; k < f.count; ++k) m.T(row, columnOf(m, f.copy[k])) += f.weight[k];
+    };
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+            const int k = 2 * a + b;
+            m.T(k, columnOf(m, rule.copy[a][b])) += 1.0;
+            addForm(4 + k, rule.s[ch][a][b]);
+            addForm(8 + k, rule.t[ch][a][b]);
+        }
+    return m;
+}
+
+Eigen::MatrixXd copyColors(const GradientMesh& mesh) {
+    const int n = nodeCopyCount(mesh);
+    Eigen::MatrixXd c(n, 3);
+    for (int k = 0; k < n; ++k) {
+        const Vec3 v = nodeCopyColor(mesh, k);
+        for (int ch = 0; ch < 3; ++ch) c(k, ch) = v[ch];
+    }
+    return c;
+}
+
+void setCopyColors(GradientMesh& mesh, const Eigen::MatrixXd& c) {
+    const size_t nodes = mesh.nodes.size();
+    for (size_t k = 0; k < nodes; ++k) mesh.nodes[k].col = {c(k, 0), c(k, 1), c(k, 2)};
+    size_t k = nodes;
+    for (Slit& s : mesh.slits)
+        for (Node& n : s.below) {
+            n.col = {c(k, 0), c(k, 1), c(k, 2)};
+            ++k;
+        }
+}
+
+std::vector<PatchColorRule> rulesOf(const GradientMesh& mesh,
+                                    const std::vector<PatchNormals>& normals) {
+    std::vector<PatchColorRule> rules;
+    rules.reserve(normals.size());
+    for (const PatchNormals& n : normals) rules.push_back(bicubicPatchRule(mesh, n.i, n.j));
+    return rules;
+}
+
+// The fit's true cost at colours c (rules taken at c), up to the constant Σ target².
+double cost(const std::vector<PatchNormals>& normals, const std::vector<PatchColorRule>& rules,
+            const Eigen::MatrixXd& c, const Eigen::MatrixXd& c0, const Eigen::Vector3d& lambda) {
+    double f = 0;
+    for (size_t p = 0; p < normals.size(); ++p)
+        for (int ch = 0; ch < 3; ++ch) {
+            const LocalMap m = localMap(rules[p], ch);
+            Eigen::VectorXd x(m.copies.size());
+            for (size_t k = 0; k < m.copies.size(); ++k) x(k) = c(m.copies[k], ch);
+            const Eigen::Matrix<double, 12, 1> y = m.T * x;
+            f += y.dot(normals[p].M * y) - 2 * y.dot(normals[p].B.col(ch));
+        }
+    for (int ch = 0; ch < 3; ++ch) f += lambda(ch) * (c.col(ch) - c0.col(ch)).squaredNorm();
+    return f;
+}
+
+// One Gauss–Newton step per channel at the rules' branches: the least-squares colours of the
+// linearised problem, or false when a solve fails.
+// `held` (optional, per copy and channel): colours held at their value in c0 by a pull far
+// stronger than any pixel's.
+bool solveLinearised(const std::vector<PatchNormals>& normals,
+                     const std::vector<PatchColorRule>& rules, const Eigen::MatrixXd& c0,
+                     double regularization, Eigen::MatrixXd& c, Eigen::Vector3d& lambda,
+                     const Eigen::MatrixXd* held = nullptr) {
+    const Eigen::Index n = c0.rows();
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<Eigen::Triplet<double>> entries;
+        entries.reserve(normals.size() * 256);
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+        for (size_t p = 0; p < normals.size(); ++p) {
+            const LocalMap m = localMap(rules[p], ch);
+            const Eigen::MatrixXd K = m.T.transpose() * normals[p].M * m.T;
+            const Eigen::VectorXd r = m.T.transpose() * normals[p].B.col(ch);
+            for (size_t a = 0; a < m.copies.size(); ++a) {
+                rhs(m.copies[a]) += r(a);
+                for (size_t b = 0; b < m.copies.size(); ++b)
+                    entries.emplace_back(m.copies[a], m.copies[b], K(a, b));
+            }
+        }
+        Eigen::SparseMatrix<double> A(n, n);
+        A.setFromTriplets(entries.begin(), entries.end());
+        double sum = 0;
+        int used = 0;
+        for (Eigen::Index k = 0; k < n; ++k)
+            if (const double d = A.coeff(k, k); d > 0) {
+                sum += d;
+                ++used;
+            }
+        lambda(ch) = std::max(regularization, 1e-12) * (used > 0 ? sum / used : 1.0);
+        Eigen::VectorXd pull = Eigen::VectorXd::Constant(n, lambda(ch));
+        if (held) pull += (1e6 * (sum / std::max(used, 1))) * held->col(ch);
+        Eigen::SparseMatrix<double> P(n, n);
+        std::vector<Eigen::Triplet<double>> diagonal;
+        for (Eigen::Index k = 0; k < n; ++k) diagonal.emplace_back(k, k, pull(k));
+        P.setFromTriplets(diagonal.begin(), diagonal.end());
+        A += P;
+        rhs += pull.cwiseProduct(c0.col(ch));
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+        if (ldlt.info() != Eigen::Success) return false;
+        c.col(ch) = ldlt.solve(rhs);
+        if (ldlt.info() != Eigen::Success || !c.col(ch).allFinite()) return false;
+    }
+    return true;
+}
+
+// Colours a file can hold: 0–1. Colours the fit put outside are clamped and held there, and
+// the others refitted around them (one linearised solve at the rules' branches), then
+// clamped once more.
+Eigen::MatrixXd keepInRange(const std::vector<PatchNormals>& normals, GradientMesh& mesh,
+                            const Eigen::MatrixXd& colors, double regularization) {
+    const Eigen::MatrixXd clamped = colors.cwiseMax(0.0).cwiseMin(1.0);
+    const Eigen::MatrixXd held = (clamped - colors).cwiseAbs().unaryExpr(
+        [](double d) { return d > 0 ? 1.0 : 0.0; });
+    if (held.sum() == 0) return colors;
+    setCopyColors(mesh, clamped);
+    Eigen::MatrixXd c = clamped;
+    Eigen::Vector3d unused;
+    if (!solveLinearised(normals, rulesOf(mesh, normals), clamped, regularization, c, unused,
+                         &held))
+        return clamped;
+    return c.cwiseMax(0.0).cwiseMin(1.0);
+}
+
+}  // namespace
+
+void fitBicubicColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
+                      const std::vector<PixelSample>& samples, int meshIndex,
+                      double regularization) {
+    const std::vector<PatchNormals> normals =
+        patchNormals(mesh, image, region, samples, meshIndex);
+    if (normals.empty()) return;
+    const Eigen::MatrixXd c0 = copyColors(mesh);
+    std::vector<PatchColorRule> rules = rulesOf(mesh, normals);
+    Eigen::MatrixXd c = c0;
+    Eigen::Vector3d lambda;
+    if (!solveLinearised(normals, rules, c0, regularization, c, lambda)) return;
+    double best = cost(normals, rules, c0, c0, lambda);
+    Eigen::MatrixXd bestColors = c0;
+    constexpr int kRounds = 4;
+    for (int round = 0; round < kRounds; ++round) {
+        setCopyColors(mesh, c);
+        rules = rulesOf(mesh, normals);
+        const double f = cost(normals, rules, c, c0, lambda);
+        if (f < best) {
+            best = f;
+            bestColors = c;
+        } else if (round > 0) {
+            break;  // the branches moved against us twice in a row: keep the best
+        }
+        if (round + 1 == kRounds) break;
+        Eigen::Vector3d unused;
+        if (!solveLinearised(normals, rules, c0, regularization, c, unused)) break;
+    }
+    setCopyColors(mesh, keepInRange(normals, mesh, bestColors, regularization));
+}
+
+}  // namespace gm
