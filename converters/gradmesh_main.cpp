@@ -3,6 +3,8 @@
 #include <malloc.h>
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "converters/bicubic_model.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
 #include "image_command.h"
@@ -77,10 +80,15 @@ const std::map<std::string, std::string> kHelp = {
      "usage: gradmesh info IN\n"
      "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
     {"compare",
-     "usage: gradmesh compare A B [--mask M]\n"
+     "usage: gradmesh compare A B [--mask M] [--background COLOR] [--erode N]\n"
      "  Error of image B against image A over the pixels where the mask is white (default:\n"
      "  where A is opaque), in 0-255 units: E (mean absolute error per channel), RMSE, PSNR,\n"
-     "  max, and the fraction of those pixels that B leaves uncovered.\n"},
+     "  max, the 99th percentile of the channel errors, and the fraction of those pixels that\n"
+     "  B leaves uncovered.\n"
+     "  --background COLOR  composite both images over this opaque colour first: B's partly\n"
+     "                      transparent pixels (seams between meshes) then count as the\n"
+     "                      background shows through them\n"
+     "  --erode N           leave out pixels within N px of the compared area's edge\n"},
     {"sample",
      "usage: gradmesh sample OUT\n"
      "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
@@ -238,8 +246,8 @@ int cmdConvert(const Args& a, bool renderOnly) {
     wo.legacy = a.flags.count("--legacy") > 0;
     wo.textShading = a.flags.count("--text-shading") > 0;
     if (auto it = a.values.find("--svg-colors"); it != a.values.end()) {
-        if (it->second != "exact" && it->second != "editable")
-            throw UsageError("--svg-colors expects exact or editable, got '" + it->second + "'");
+        if (it->second != "exact" && it->second != "bicubic" && it->second != "editable")
+            throw UsageError("--svg-colors expects bicubic or exact, got '" + it->second + "'");
         wo.svgColors = it->second;
     }
     if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
@@ -291,7 +299,7 @@ int cmdConvert(const Args& a, bool renderOnly) {
     if (writer->name() == "raster" && pixels > 1.0e9)
         throw Error("output would be " + std::to_string(static_cast<long long>(pixels)) +
                         " pixels; lower --scale", out);
-    writer->write(doc, out, wo);
+    writer->write(gm::documentForWriter(doc, *writer, wo), out, wo);
     return 0;
 }
 
@@ -313,24 +321,52 @@ int cmdInfo(const Args& a) {
                 doc.width, doc.height, doc.meshes.size(), patches, holes, pieces);
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         const gm::GradientMesh& m = doc.meshes[k];
-        std::printf("mesh %zu: grid %d x %d, %d patches, %d holes, %d legacy pieces", k,
-                    m.columns(), m.rows(), m.patchCount(), m.holeCount(), gm::legacyPieceCount(m));
+        std::printf("mesh %zu: %s, grid %d x %d, %d patches, %d holes, %d legacy pieces", k,
+                    m.colorModel == gm::ColorModel::Bicubic ? "bicubic" : "hermite", m.columns(),
+                    m.rows(), m.patchCount(), m.holeCount(), gm::legacyPieceCount(m));
         if (!m.tangents.empty()) std::printf(", %zu tangent breaks", m.tangents.size());
         std::printf("\n");
     }
-    // What an editable SVG (type="bicubic") would lose: Inkscape computes its own colour
-    // derivatives, and this bounds how far its colours can be from ours.
-    const gm::SvgEditableDeviation dev = gm::svgEditableDeviation(doc);
-    std::printf("editable svg: colour within %.2f/255 of ours (Inkscape's bicubic rule)\n",
-                dev.maxColorDifference * 255.0);
+    // A Hermite mesh's colour slopes are its own; the SVG carries the bicubic rule's, so
+    // convert refits its colours: say how close that comes.
+    if (gm::hasHermiteMeshes(doc)) {
+        const gm::BicubicConversion c = gm::toBicubicModel(doc);
+        std::printf("bicubic refit (svg): %d hermite mesh(es), E %.2f, PSNR %.2f dB, max %.0f/255 "
+                    "from the hermite render\n",
+                    c.refitted, c.error.meanAbs, c.error.psnr, c.error.maxAbs);
+    }
     return 0;
+}
+
+// The pixels compared: the mask's white, else A's opaque pixels (alpha at least 1/2); then
+// eroded by `erode` pixels (Chebyshev), which leaves out the outline.
+std::vector<uint8_t> comparedPixels(const gm::RgbaImage& A, const gm::RgbaImage* M, int erode) {
+    const int W = A.width, H = A.height;
+    std::vector<uint8_t> in(static_cast<size_t>(W) * H, 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            in[static_cast<size_t>(y) * W + x] =
+                M ? M->at(x, y)[0] * M->at(x, y)[3] >= 0.5f : A.at(x, y)[3] >= 0.5f;
+    if (erode <= 0) return in;
+    std::vector<uint8_t> out(in.size(), 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            bool all = true;
+            for (int dy = -erode; dy <= erode && all; ++dy)
+                for (int dx = -erode; dx <= erode && all; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    all = xx >= 0 && yy >= 0 && xx < W && yy < H && in[static_cast<size_t>(yy) * W + xx];
+                }
+            out[static_cast<size_t>(y) * W + x] = all;
+        }
+    return out;
 }
 
 int cmdCompare(const Args& a) {
     if (a.positional.size() != 2) throw UsageError("expects two images A B");
     for (const auto& p : a.positional) requireInputFile(p);
-    const gm::RgbaImage A = gm::readImage(a.positional[0]);
-    const gm::RgbaImage B = gm::readImage(a.positional[1]);
+    gm::RgbaImage A = gm::readImage(a.positional[0]);
+    gm::RgbaImage B = gm::readImage(a.positional[1]);
     if (A.width != B.width || A.height != B.height)
         throw Error("size " + std::to_string(B.width) + "x" + std::to_string(B.height) +
                         " differs from " + std::to_string(A.width) + "x" + std::to_string(A.height) +
@@ -348,12 +384,22 @@ int cmdCompare(const Args& a) {
                             std::to_string(A.height),
                         mp);
     }
+    const int erode = a.values.count("--erode")
+                          ? static_cast<int>(parseNumber("--erode", a.values.at("--erode"), 0, 64))
+                          : 0;
+    const std::vector<uint8_t> in = comparedPixels(A, hasMask ? &M : nullptr, erode);
+    if (auto it = a.values.find("--background"); it != a.values.end()) {
+        const std::array<float, 4> bg = parseColor(it->second);
+        if (bg[3] < 1.0f) throw UsageError("--background needs an opaque colour, got '" + it->second + "'");
+        gm::compositeOver(A, bg);
+        gm::compositeOver(B, bg);
+    }
     double sum = 0, sq = 0, mx = 0;
     size_t n = 0, uncovered = 0;
+    std::vector<float> errors;
     for (int y = 0; y < A.height; ++y) {
         for (int x = 0; x < A.width; ++x) {
-            const bool in = hasMask ? (M.at(x, y)[0] * M.at(x, y)[3] >= 0.5f) : (A.at(x, y)[3] >= 0.5f);
-            if (!in) continue;
+            if (!in[static_cast<size_t>(y) * A.width + x]) continue;
             ++n;
             if (B.at(x, y)[3] < 0.5f) ++uncovered;
             for (int c = 0; c < 3; ++c) {
@@ -361,14 +407,17 @@ int cmdCompare(const Args& a) {
                 sum += e;
                 sq += e * e;
                 mx = std::max(mx, e);
+                errors.push_back(static_cast<float>(e));
             }
         }
     }
     if (n == 0) throw Error("no pixels to compare (the mask or A's alpha selects none)", hasMask ? a.values.at("--mask") : a.positional[0]);
     const double E = sum / (3.0 * n), rmse = std::sqrt(sq / (3.0 * n));
     const double psnr = rmse > 0 ? 20.0 * std::log10(255.0 / rmse) : INFINITY;
-    std::printf("pixels: %zu\nE: %.4f\nRMSE: %.4f\nPSNR: %.2f\nmax: %.2f\nuncovered: %.6f\n", n, E,
-                rmse, psnr, mx, double(uncovered) / n);
+    const size_t k99 = std::min(errors.size() - 1, static_cast<size_t>(0.99 * errors.size()));
+    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(k99), errors.end());
+    std::printf("pixels: %zu\nE: %.4f\nRMSE: %.4f\nPSNR: %.2f\nmax: %.2f\np99: %.2f\nuncovered: %.6f\n",
+                n, E, rmse, psnr, mx, errors[k99], double(uncovered) / n);
     return 0;
 }
 
@@ -424,7 +473,8 @@ int main(int argc, char** argv) {
             return cmdConvert(a, command == "render");
         }
         if (command == "info") return cmdInfo(parseArgs(command, argc, argv, {}, {}));
-        if (command == "compare") return cmdCompare(parseArgs(command, argc, argv, {"--mask"}, {}));
+        if (command == "compare")
+            return cmdCompare(parseArgs(command, argc, argv, {"--mask", "--background", "--erode"}, {}));
         if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
     } catch (const UsageError& e) {
         std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),

@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "converters/bicubic_model.h"
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
@@ -59,6 +60,22 @@ const char* kImageConvertHelp =
     "  --threads N             regions converted at once (default: all cores)\n";
 
 namespace {
+
+// --colors: bicubic (the default; "rule" is its former name), hermite ("fit"), sampled.
+ColorMode colorMode(const std::string& name) {
+    if (name == "bicubic" || name == "rule") return ColorMode::FitBicubic;
+    if (name == "hermite" || name == "fit") return ColorMode::Fit;
+    if (name == "sampled") return ColorMode::Sampled;
+    throw std::invalid_argument("--colors expects bicubic, hermite or sampled, got '" + name + "'");
+}
+
+const char* colorModeName(ColorMode mode) {
+    switch (mode) {
+        case ColorMode::Fit: return "hermite";
+        case ColorMode::Sampled: return "sampled";
+        default: return "bicubic";
+    }
+}
 
 // Above this many patches --report leaves out the exact SVG's size ("svg": null).
 constexpr int kReportSvgMaxPatches = 2000;
@@ -215,17 +232,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     co.sampleFraction = number(values, "--samples", co.sampleFraction, 1e-4, 1.0);
     const uint64_t maxPixels =
         static_cast<uint64_t>(number(values, "--max-pixels", double(uint64_t(64) << 20), 1, 1e12));
-    if (auto it = values.find("--colors"); it != values.end()) {
-        if (it->second == "fit")
-            co.colors = ColorMode::Fit;
-        else if (it->second == "sampled")
-            co.colors = ColorMode::Sampled;
-        else if (it->second == "rule")
-            co.colors = ColorMode::FitRule;
-        else
-            throw std::invalid_argument("--colors expects fit, rule or sampled, got '" +
-                                        it->second + "'");
-    }
+    if (auto it = values.find("--colors"); it != values.end()) co.colors = colorMode(it->second);
     SegmentConvertOptions so;
     so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
     so.segment.minRegion = static_cast<int>(number(values, "--min-region", 0, 1, 1e9));
@@ -358,7 +365,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     t0 = Clock::now();
     // A compact .gmb holds the refitted colours (the file is compact's bytes: re-encoding a
     // quantised document gives the same file).
-    writer.write(compactOutput ? compact.doc : doc, out, wo);
+    writer.write(compactOutput ? compact.doc : documentForWriter(doc, writer, wo, co.threads), out,
+                 wo);
     const double writeSeconds = since(t0);
 
     if (reportPath.empty()) return;
@@ -371,9 +379,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     s << "{\n  \"input\": " << jsonString(in) << ",\n  \"output\": " << jsonString(out)
       << ",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
       << ",\n  \"mask_source\": " << jsonString(report.maskSource)
-      << ",\n  \"colors\": " << jsonString(co.colors == ColorMode::Fit       ? "fit"
-                                   : co.colors == ColorMode::FitRule ? "rule"
-                                                                     : "sampled")
+      << ",\n  \"colors\": " << jsonString(colorModeName(co.colors))
       << ",\n  \"max_error\": " << num(co.maxError) << ",\n  \"max_patches\": " << co.maxPatches
       << ",\n  \"seconds\": " << secondsJson(report.seconds) << ",\n  \"io_seconds\": {\"read\": "
       << num(readSeconds) << ", \"mask\": " << num(maskSeconds) << ", \"write\": "
@@ -458,6 +464,18 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         std::filesystem::remove(out, ec);  // a failed command leaves no output behind
         throw;
     }
+}
+
+Document documentForWriter(const Document& doc, const MeshFormat& writer,
+                           const WriteOptions& options, int threads) {
+    if (writer.name() != "svg" || options.svgColors == "exact" || !hasHermiteMeshes(doc))
+        return doc;
+    BicubicConversion c = toBicubicModel(doc, threads);
+    std::fprintf(stderr,
+                 "svg: %d Hermite mesh(es) refitted to the bicubic rule: E %.2f, PSNR %.2f dB, "
+                 "max %.0f/255 from the Hermite render (--svg-colors exact keeps them exact)\n",
+                 c.refitted, c.error.meanAbs, c.error.psnr, c.error.maxAbs);
+    return std::move(c.doc);
 }
 
 }  // namespace gm

@@ -12,11 +12,14 @@ set -x
 $gm convert samples/apple.jpg --mask samples/apple_mask.png -o out/apple.gmb --report out/apple.json
 $gm info out/apple.gmb
 $gm convert out/apple.gmb -o out/apple-compact.gmb --compact
-$gm convert out/apple.gmb -o out/apple.svg                      # exact colours, for Inkscape
-$gm convert out/apple.gmb -o out/apple-editable.svg --svg-colors editable
-# For editing in Inkscape: colour slopes by SVG's own bicubic rule, so the editable SVG keeps
-# the colours (at some error: see README, --colors).
-$gm convert samples/apple.jpg --mask samples/apple_mask.png --colors rule -o out/apple-rule.svg --svg-colors editable
+# The SVG: one meshgradient patch per mesh patch, colours by SVG's bicubic rule as Inkscape
+# draws them (the mesh is fitted in that model), editable; .svgz is the same, gzipped.
+$gm convert out/apple.gmb -o out/apple.svg
+$gm convert out/apple.gmb -o out/apple.svgz
+# Free colour slopes (--colors hermite): the smallest raster error per patch; its SVG is refitted
+# to the bicubic rule (the error is printed), or subdivided with --svg-colors exact.
+$gm convert samples/apple.jpg --mask samples/apple_mask.png --colors hermite -o out/apple-hermite.gmb
+$gm convert out/apple-hermite.gmb -o out/apple-hermite.svg
 $gm convert out/apple.gmb -o out/apple.eps
 $gm convert out/apple.gmb -o out/apple.pdf
 $gm render out/apple.gmb -o out/apple.png --background white
@@ -31,7 +34,7 @@ $gm render out/pic1.gmb -o out/pic1.png --background white
 $gm render out/pic1.gmb -o out/pic1-mesh.png --scale 2 --background white --mesh-lines '#ff2080'
 # A whole image: segmented into large regions, one mesh each (holes included) over a base mesh.
 $gm convert samples/fruits.jpg --segment -o out/fruits.gmb --report out/fruits.json
-$gm convert out/fruits.gmb -o out/fruits.svg --svg-colors editable   # the exact-colour SVG of a whole image is ~300 MB
+$gm convert out/fruits.gmb -o out/fruits.svg
 $gm render out/fruits.gmb -o out/fruits.png
 $gm compare samples/fruits.jpg out/fruits.png
 # A whole image at about 1 KB: 50 patches shared out over the regions, compact level 6 (its

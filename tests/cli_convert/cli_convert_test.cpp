@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -16,6 +17,7 @@
 
 #include "formats/raster.h"
 #include "formats/registry.h"
+#include "meshcore/split_legacy.h"
 #include "meshcore/synthetic_meshes.h"
 #include "support/cli_run.h"
 
@@ -232,7 +234,7 @@ TEST_CASE("a smooth object converts to .gmb, .svg, .eps, .pdf and .png", "[cli_c
     CHECK(balancedJson(json));
     CHECK_THAT(json, Contains("\"seconds\": {") && Contains("\"patches\": ") &&
                          Contains("\"error\": {") && Contains("\"mask_source\": \"alpha\"") &&
-                         Contains("\"colors\": \"fit\"") && Contains("blob.png"));
+                         Contains("\"colors\": \"bicubic\"") && Contains("blob.png"));
     CHECK(jsonNumber(json, "width") == 120);
     CHECK(jsonNumber(json, "height") == 100);
     const double total = jsonNumber(json, "total", json.find("\"seconds\": {"));
@@ -712,7 +714,7 @@ TEST_CASE("segment mode, compact level 6: the file's colours are refitted to its
     INFO(rep);
     const size_t at = rep.find("\"compact\": {");
     REQUIRE(at != std::string::npos);
-    CHECK_THAT(rep.substr(at, 120), Contains("\"colors_refit\": \"refit\""));
+    CHECK_THAT(rep.substr(at, 120), Contains("\"colors_refit\": \"bicubic refit\""));
     CHECK(jsonNumber(rep, "bytes", at) == static_cast<double>(fs::file_size(d / "fish.gmb")));
     const double psnr = jsonNumber(rep, "psnr", rep.find("\"error\": {", at));
     const double meshPsnr = jsonNumber(rep, "psnr", rep.find("\"error\": {"));
@@ -746,66 +748,139 @@ TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[
     }
 }
 
-TEST_CASE("convert --colors rule gives meshes whose editable SVG keeps their colours",
-          "[cli_convert][external]") {
-    // The apple with its mask: the free fit's colour slopes are far from SVG's bicubic rule;
-    // with --colors rule the slopes are the rule's, the compact file leaves them out, and the
-    // editable export differs from our colours only where chords and knots disagree.
-    const fs::path d = tmpDir("colorsrule");
-    const std::string in = std::string(GRADMESH_SAMPLES) + "/apple.jpg";
-    const std::string mask = std::string(GRADMESH_SAMPLES) + "/apple_mask.png";
-    double deviation[2] = {0, 0};
-    uintmax_t compact[2] = {0, 0};
-    int k = 0;
-    for (const std::string mode : {"fit", "rule"}) {
-        const fs::path out = d / (mode + ".gmb");
-        const Run r = gradmesh("convert " + q(in) + " --mask " + q(mask) + " --colors " + mode +
-                                   " -o " + q(out) + " --compact --report " +
-                                   q(d / (mode + ".json")),
-                               d);
-        INFO(r.err);
-        REQUIRE(r.code == 0);
-        CHECK_THAT(slurp(d / (mode + ".json")), Contains("\"colors\": \"" + mode + "\""));
-        const Run info = gradmesh("info " + q(out), d);
-        REQUIRE(info.code == 0);
-        const auto at = info.out.find("colour within ");
-        REQUIRE(at != std::string::npos);
-        deviation[k] = std::stod(info.out.substr(at + 14));
-        compact[k] = fs::file_size(out);
-        ++k;
+namespace {
+
+// Inkscape's PNG export of `svg` (transparent background), with a private profile.
+void inkscapePng(const fs::path& svg, const fs::path& png, const fs::path& dir) {
+    const std::string home = (dir / "inkscape-home").string();
+    fs::remove(png);
+    REQUIRE(std::system(("HOME=" + q(home) + " XDG_CONFIG_HOME=" + q(home) +
+                         " inkscape --export-type=png --export-filename=" + q(png) + " " + q(svg) +
+                         " >/dev/null 2>&1")
+                            .c_str()) == 0);
+    REQUIRE(fs::exists(png));
+}
+
+// `gradmesh compare` figures (E, p99, ...) of B against A.
+std::map<std::string, double> compareFigures(const fs::path& a, const fs::path& b,
+                                             const std::string& options, const fs::path& dir) {
+    const Run cmp = gradmesh("compare " + q(a) + " " + q(b) + " " + options, dir);
+    INFO(cmp.err);
+    REQUIRE(cmp.code == 0);
+    std::map<std::string, double> out;
+    std::istringstream lines(cmp.out);
+    std::string line;
+    while (std::getline(lines, line)) {
+        const auto colon = line.find(": ");
+        if (colon != std::string::npos) out[line.substr(0, colon)] = std::stod(line.substr(colon + 2));
     }
-    WARN("apple: editable SVG colour within " << deviation[0] << "/255 (fit), " << deviation[1]
-                                              << "/255 (rule); compact " << compact[0] << " B, "
-                                              << compact[1] << " B");
-    CHECK(deviation[1] < 16);
-    CHECK(deviation[0] > 4 * deviation[1]);
-    CHECK(compact[1] < compact[0]);
-    // What Inkscape (the consumer the editable export is for) paints against our renderer.
-    double inkE[2] = {0, 0};
-    k = 0;
-    for (const std::string mode : {"fit", "rule"}) {
-        const fs::path svg = d / (mode + "_editable.svg"), ink = d / (mode + "_inkscape.png");
-        REQUIRE(gradmesh("convert " + q(d / (mode + ".gmb")) + " -o " + q(svg) +
-                             " --svg-colors editable",
-                         d)
-                    .code == 0);
-        REQUIRE(gradmesh("render " + q(d / (mode + ".gmb")) + " -o " + q(d / (mode + ".png")), d)
-                    .code == 0);
-        const std::string home = (d / "inkscape-home").string();
-        REQUIRE(std::system(("HOME=" + q(home) + " XDG_CONFIG_HOME=" + q(home) +
-                             " inkscape --export-type=png --export-filename=" + q(ink) + " " +
-                             q(svg) + " >/dev/null 2>&1")
-                                .c_str()) == 0);
-        const Run cmp = gradmesh("compare " + q(d / (mode + ".png")) + " " + q(ink), d);
-        REQUIRE(cmp.code == 0);
-        const auto at = cmp.out.find("E: ");
-        REQUIRE(at != std::string::npos);
-        inkE[k++] = std::stod(cmp.out.substr(at + 3));
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("the default SVG is what Inkscape shows: one patch per patch, bicubic, compact",
+          "[cli_convert][external][bicubic]") {
+    // Inkscape against our render, composited over white and eroded 1 px (the outline's
+    // anti-aliasing differs between renderers; seams between pieces and meshes count).
+    const fs::path d = tmpDir("defaultsvg");
+    const std::string S = std::string(GRADMESH_SAMPLES) + "/";
+    struct Case {
+        std::string name, convert;
+        double maxE, maxP99;
+    };
+    // pic1's outline has a 1-px rim where the colour jumps from black to white inside the
+    // outermost patches: Inkscape's 8x8 bilinear pieces miss it there even in the exact SVG
+    // (p99 8). In a whole image, a mesh's outline lies over the meshes beneath it, and
+    // Inkscape clips each mesh to the pixel centres inside its patches (its fill path alone
+    // is anti-aliased), where we blend by coverage: the region borders differ.
+    const Case cases[] = {
+        {"apple", "convert " + q(S + "apple.jpg") + " --mask " + q(S + "apple_mask.png"), 0.5, 4},
+        {"pic1", "convert " + q(S + "pic1.png"), 0.5, 12},
+        {"fish", "convert " + q(S + "HappyFish.jpg") + " --segment", 5, 80},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        const fs::path gmb = d / (c.name + ".gmb"), svg = d / (c.name + ".svg");
+        checkSuccess(gradmesh(c.convert + " -o " + q(gmb), d));
+        const Run info = gradmesh("info " + q(gmb), d);
+        CHECK_THAT(info.out, Contains(": bicubic, grid"));
+        CHECK_THAT(info.out, !Contains(": hermite, grid"));
+        checkSuccess(gradmesh("convert " + q(gmb) + " -o " + q(svg), d));
+        const std::string text = slurp(svg);
+        const gm::Document doc =
+            gm::FormatRegistry::builtin().byName("gmb")->read(gmb.string(), gm::ReadOptions{});
+        long patches = 0, svgPatches = 0;
+        for (const gm::GradientMesh& m : doc.meshes) patches += m.patchCount();
+        for (size_t p = text.find("<meshpatch"); p != std::string::npos; p = text.find("<meshpatch", p + 1))
+            ++svgPatches;
+        CHECK(svgPatches == patches);  // one SVG patch per mesh patch
+        checkSuccess(gradmesh("render " + q(gmb) + " -o " + q(d / (c.name + "_ours.png")), d));
+        inkscapePng(svg, d / (c.name + "_ink.png"), d);
+        const auto f = compareFigures(d / (c.name + "_ours.png"), d / (c.name + "_ink.png"),
+                                      "--background white --erode 1", d);
+        WARN(c.name << ": " << patches << " patches, SVG " << text.size() << " B ("
+                    << double(text.size()) / patches << " B/patch); Inkscape against ours: E "
+                    << f.at("E") << ", p99 " << f.at("p99") << ", max " << f.at("max"));
+        CHECK(f.at("E") <= c.maxE);
+        CHECK(f.at("p99") <= c.maxP99);
     }
-    WARN("apple, Inkscape's render of the editable SVG against ours: E " << inkE[0] << " (fit), "
-                                                                         << inkE[1] << " (rule)");
-    CHECK(inkE[1] < 1.0);
-    CHECK(inkE[0] > 3 * inkE[1]);
-    const Run bad = gradmesh("convert " + q(in) + " --colors exact -o " + q(d / "x.gmb"), d);
-    checkFailure(bad, 2, {"--colors", "fit, rule or sampled"});
+
+    // A synthetic document with tensor handles and slits (Hermite): the SVG refits it to the
+    // bicubic rule and says how far that is; Inkscape draws the file as we read it back.
+    checkSuccess(gradmesh("sample " + q(d / "sample.gmb"), d));
+    const Run conv = gradmesh("convert " + q(d / "sample.gmb") + " -o " + q(d / "sample.svg"), d);
+    REQUIRE(conv.code == 0);
+    CHECK_THAT(conv.err, Contains("refitted to the bicubic rule"));
+    checkSuccess(gradmesh("render " + q(d / "sample.svg") + " -o " + q(d / "sample_ours.png"), d));
+    inkscapePng(d / "sample.svg", d / "sample_ink.png", d);
+    const auto f = compareFigures(d / "sample_ours.png", d / "sample_ink.png",
+                                  "--background white --erode 1", d);
+    WARN("synthetic sample (3 holes, curved): Inkscape against our render of the SVG: E "
+         << f.at("E") << ", p99 " << f.at("p99"));
+    CHECK(f.at("E") <= 0.5);
+    CHECK(f.at("p99") <= 4.0);
+
+    const Run bad = gradmesh("convert " + q(S + "apple.jpg") + " --colors exact -o " + q(d / "x.gmb"), d);
+    checkFailure(bad, 2, {"--colors", "bicubic, hermite or sampled"});
+}
+
+TEST_CASE("a bicubic mesh round-trips .gmb -> .svg(z) -> .gmb within the stated precision",
+          "[cli_convert][bicubic]") {
+    const fs::path d = tmpDir("bicubicroundtrip");
+    const std::string S = std::string(GRADMESH_SAMPLES) + "/";
+    checkSuccess(gradmesh("convert " + q(S + "pic1.png") + " -o " + q(d / "a.gmb"), d));
+    for (const char* ext : {".svg", ".svgz"}) {
+        INFO(ext);
+        const fs::path svg = d / (std::string("a") + ext), back = d / "back.gmb";
+        checkSuccess(gradmesh("convert " + q(d / "a.gmb") + " -o " + q(svg), d));
+        checkSuccess(gradmesh("convert " + q(svg) + " -o " + q(back), d));
+        const gm::MeshFormat* gmb = gm::FormatRegistry::builtin().byName("gmb");
+        const gm::Document a = gmb->read((d / "a.gmb").string(), gm::ReadOptions{});
+        const gm::Document b = gmb->read(back.string(), gm::ReadOptions{});
+        // Slit meshes come back as their hole-free pieces, node for node.
+        std::vector<gm::GradientMesh> pieces;
+        for (const gm::GradientMesh& m : a.meshes)
+            for (gm::GradientMesh& p : gm::splitIntoLegacyMeshes(m)) pieces.push_back(std::move(p));
+        REQUIRE(b.meshes.size() == pieces.size());
+        double pos = 0, col = 0;
+        for (size_t m = 0; m < pieces.size(); ++m) {
+            REQUIRE(b.meshes[m].colorModel == gm::ColorModel::Bicubic);
+            REQUIRE(b.meshes[m].nodes.size() == pieces[m].nodes.size());
+            for (size_t k = 0; k < pieces[m].nodes.size(); ++k) {
+                const gm::Node &x = pieces[m].nodes[k], &y = b.meshes[m].nodes[k];
+                pos = std::max({pos, std::fabs(x.pos.x - y.pos.x), std::fabs(x.pos.y - y.pos.y)});
+                for (int ch = 0; ch < 3; ++ch) col = std::max(col, std::fabs(x.col[ch] - y.col[ch]));
+            }
+        }
+        CHECK(pos <= 0.005 + 1e-9);     // positions to 1/100 px
+        CHECK(col <= 0.5 / 255 + 1e-9);  // colours 8-bit
+        // The file read back renders as the pieces do (8-bit colours, 1/100 px).
+        checkSuccess(gradmesh("convert " + q(d / "a.gmb") + " --legacy -o " + q(d / "pieces.gmb"), d));
+        checkSuccess(gradmesh("render " + q(d / "pieces.gmb") + " -o " + q(d / "a.png"), d));
+        checkSuccess(gradmesh("render " + q(back) + " -o " + q(d / "b.png"), d));
+        const auto f = compareFigures(d / "a.png", d / "b.png", "--background white --erode 1", d);
+        CHECK(f.at("E") <= 0.3);
+    }
+    CHECK(fs::file_size(d / "a.svgz") < fs::file_size(d / "a.svg") / 2);
 }

@@ -8,6 +8,7 @@ namespace gm {
 SvgEditableDeviation svgEditableDeviation(const Document& doc) {
     SvgEditableDeviation out;
     for (const GradientMesh& mesh : doc.meshes) {
+        if (mesh.colorModel == ColorModel::Bicubic) continue;  // the file's rule is the mesh's
         out.ruleDeviation = std::max(out.ruleDeviation, colorRuleDeviation(mesh));
         out.slopeDeviation = std::max(out.slopeDeviation, bicubicExportDeviation(mesh));
     }

@@ -1,3 +1,5 @@
+#include <zlib.h>
+
 #include <cctype>
 
 #include "formats/atomic_file.h"
@@ -8,10 +10,63 @@ namespace gm {
 
 namespace {
 
+bool endsWith(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+bool isGzip(const std::string& bytes) {
+    return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+           static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+// .svgz: the SVG text as one gzip member (RFC 1952), at zlib's best compression.
+std::string gzipBytes(const std::string& text) {
+    z_stream z{};
+    if (deflateInit2(&z, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY) != Z_OK)
+        throw Error("zlib could not start gzip compression");
+    std::string out(deflateBound(&z, static_cast<uLong>(text.size())) + 32, '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+    z.avail_in = static_cast<uInt>(text.size());
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = static_cast<uInt>(out.size());
+    const int rc = deflate(&z, Z_FINISH);
+    deflateEnd(&z);
+    if (rc != Z_STREAM_END) throw Error("gzip compression failed (zlib code " + std::to_string(rc) + ")");
+    out.resize(z.total_out);
+    return out;
+}
+
+// The SVG text of a .svgz file, refused past `limit` bytes once inflated.
+std::string gunzipBytes(const std::string& bytes, uint64_t limit, const std::string& path) {
+    z_stream z{};
+    if (inflateInit2(&z, 15 + 16) != Z_OK) throw Error("zlib could not start gzip decoding", path);
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    z.avail_in = static_cast<uInt>(bytes.size());
+    std::string out;
+    char buffer[1 << 16];
+    int rc = Z_OK;
+    while (rc == Z_OK) {
+        z.next_out = reinterpret_cast<Bytef*>(buffer);
+        z.avail_out = sizeof buffer;
+        rc = inflate(&z, Z_NO_FLUSH);
+        out.append(buffer, sizeof buffer - z.avail_out);
+        if (out.size() > limit) {
+            inflateEnd(&z);
+            throw Error("the SVG inside the .svgz file exceeds the limit of " +
+                            std::to_string(limit) + " bytes",
+                        path);
+        }
+        if (rc == Z_OK && z.avail_in == 0 && z.avail_out != 0) rc = Z_BUF_ERROR;
+    }
+    inflateEnd(&z);
+    if (rc != Z_STREAM_END) throw Error("corrupt or truncated gzip data (.svgz)", path);
+    return out;
+}
+
 class SvgFormat : public MeshFormat {
 public:
     std::string name() const override { return "svg"; }
-    std::vector<std::string> extensions() const override { return {".svg"}; }
+    std::vector<std::string> extensions() const override { return {".svg", ".svgz"}; }
     bool canRead() const override { return true; }
     bool canWrite() const override { return true; }
 
@@ -21,6 +76,7 @@ public:
         if (head.compare(0, 3, "\xEF\xBB\xBF") == 0) p = 3;
         while (p < head.size() && std::isspace(static_cast<unsigned char>(head[p]))) ++p;
         const std::string rest = head.substr(p);
+        if (isGzip(head)) return true;
         return rest.compare(0, 5, "<?xml") == 0 || rest.compare(0, 4, "<svg") == 0 ||
                rest.compare(0, 9, "<!DOCTYPE") == 0 || rest.compare(0, 4, "<!--") == 0;
     }
@@ -28,7 +84,9 @@ public:
     Document read(const std::string& path, const ReadOptions& options) const override {
         const uint64_t limit =
             std::min<uint64_t>(options.limits.maxFileBytes, SvgReadLimits::maxFileBytes);
-        return decodeSvg(readWholeFile(path, limit), options.limits, path);
+        std::string bytes = readWholeFile(path, limit);
+        if (isGzip(bytes)) bytes = gunzipBytes(bytes, limit, path);
+        return decodeSvg(bytes, options.limits, path);
     }
 
     void write(const Document& doc, const std::string& path,
@@ -40,7 +98,7 @@ public:
             if (!e.file().empty()) throw;
             throw Error(e.reason(), path, e.where());
         }
-        writeFileAtomically(path, bytes);
+        writeFileAtomically(path, endsWith(path, ".svgz") ? gzipBytes(bytes) : bytes);
     }
 };
 

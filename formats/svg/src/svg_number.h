@@ -8,14 +8,25 @@
 
 namespace gm {
 
+// Decimals written: 4 (1e-4 px) by default; the compact mesh syntax writes 2 (1/100 px).
+constexpr int kSvgDecimalsExact = 4;
+constexpr int kSvgDecimalsCompact = 2;
+
+inline double svgStepsPerUnit(int decimals) { return decimals == 2 ? 1e2 : 1e4; }
+
 // The value a reader gets back from the text appendSvgNumber writes for v.
-inline long long svgNumberSteps(double v) { return std::llround(v * 1e4); }
-inline double svgPrintedValue(double v) { return static_cast<double>(svgNumberSteps(v)) / 1e4; }
+inline long long svgNumberSteps(double v, int decimals = kSvgDecimalsExact) {
+    return std::llround(v * svgStepsPerUnit(decimals));
+}
+inline double svgPrintedValue(double v, int decimals = kSvgDecimalsExact) {
+    return static_cast<double>(svgNumberSteps(v, decimals)) / svgStepsPerUnit(decimals);
+}
 
 // "12.5", "-.25", "0", "3": no trailing zeros, no leading zero before the point when
 // `dropLeadingZero` (path and tensor data; attribute lengths keep it).
-inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = true) {
-    long long q = svgNumberSteps(v);
+inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = true,
+                            int decimals = kSvgDecimalsExact) {
+    long long q = svgNumberSteps(v, decimals);
     if (q == 0) {
         out += '0';
         return;
@@ -24,16 +35,17 @@ inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = t
         out += '-';
         q = -q;
     }
-    const long long whole = q / 10000;
-    long long frac = q % 10000;
+    const long long unit = static_cast<long long>(svgStepsPerUnit(decimals));
+    const long long whole = q / unit;
+    long long frac = q % unit;
     if (whole != 0 || !dropLeadingZero || frac == 0) out += std::to_string(whole);
     if (frac != 0) {
         char digits[5] = {'0', '0', '0', '0', 0};
-        for (int k = 3; k >= 0; --k) {
+        for (int k = decimals - 1; k >= 0; --k) {
             digits[k] = static_cast<char>('0' + frac % 10);
             frac /= 10;
         }
-        int len = 4;
+        int len = decimals;
         while (len > 0 && digits[len - 1] == '0') --len;
         out += '.';
         out.append(digits, static_cast<size_t>(len));

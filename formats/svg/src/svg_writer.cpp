@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <cstdint>
+#include <initializer_list>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -92,13 +94,50 @@ SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, double minP
     return gridFromPatches(fine, nu, nv);
 }
 
+// Compact syntax: a patch's tensor (interior) points are written only when one lies further
+// than this (px) from the Coons interior Inkscape assumes without them.
+constexpr double kTensorTolerance = 0.25;
+
+// How numbers are written: decimals per coordinate, and whether separators are left out where
+// the grammar allows it (before a minus sign, and after a path command letter).
+struct NumberSyntax {
+    int decimals = kSvgDecimalsExact;
+    bool compact = false;
+};
+
+// The points of one path command after its letter: " x,y x,y" (exact), or numbers separated
+// only where needed, "1.5 2-.3" (compact).
+void appendPoints(std::string& out, std::initializer_list<Vec2> points, const NumberSyntax& syntax);
+
 void appendPair(std::string& out, Vec2 d) {
     appendSvgNumber(out, d.x);
     out += ',';
     appendSvgNumber(out, d.y);
 }
 
-Vec2 printed(Vec2 d) { return {svgPrintedValue(d.x), svgPrintedValue(d.y)}; }
+Vec2 printed(Vec2 d, int decimals = kSvgDecimalsExact) {
+    return {svgPrintedValue(d.x, decimals), svgPrintedValue(d.y, decimals)};
+}
+
+void appendPoints(std::string& out, std::initializer_list<Vec2> points, const NumberSyntax& syntax) {
+    if (!syntax.compact) {
+        for (Vec2 p : points) {
+            out += ' ';
+            appendPair(out, p);
+        }
+        return;
+    }
+    bool first = true;
+    std::string text;
+    for (Vec2 p : points)
+        for (double v : {p.x, p.y}) {
+            text.clear();
+            appendSvgNumber(text, v, true, syntax.decimals);
+            if (!first && text[0] != '-') out += ' ';
+            out += text;
+            first = false;
+        }
+}
 
 void appendColor(std::string& out, Vec3 c) {
     static const char* hex = "0123456789abcdef";
@@ -118,31 +157,23 @@ bool nearlyEqual(Vec2 a, Vec2 b, double tol) {
 // Writes offsets relative to `start` as the reader will have reconstructed it, so rounding
 // never accumulates along the grid; returns the end point the reader reconstructs.
 Vec2 appendStop(std::string& out, Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool closing,
-                const Vec3* color) {
+                const Vec3* color, const NumberSyntax& syntax) {
     out += "<stop path=\"";
     const Vec2 chord = end - start;
-    const bool line = nearlyEqual(h1, start + (1.0 / 3) * chord, 1e-6) &&
-                      nearlyEqual(h2, start + (2.0 / 3) * chord, 1e-6);
-    Vec2 reached = end;
+    const double tol = syntax.compact ? 0.5 / svgStepsPerUnit(syntax.decimals) : 1e-6;
+    const bool line = nearlyEqual(h1, start + (1.0 / 3) * chord, tol) &&
+                      nearlyEqual(h2, start + (2.0 / 3) * chord, tol);
+    const Vec2 d = end - start;
+    const Vec2 reached = closing ? end : start + printed(d, syntax.decimals);
     if (line) {
         out += 'l';
-        if (!closing) {
-            out += ' ';
-            const Vec2 d = end - start;
-            appendPair(out, d);
-            reached = start + printed(d);
-        }
+        if (!closing) appendPoints(out, {d}, syntax);
     } else {
-        out += "c ";
-        appendPair(out, h1 - start);
-        out += ' ';
-        appendPair(out, h2 - start);
-        if (!closing) {
-            out += ' ';
-            const Vec2 d = end - start;
-            appendPair(out, d);
-            reached = start + printed(d);
-        }
+        out += 'c';
+        if (closing)
+            appendPoints(out, {h1 - start, h2 - start}, syntax);
+        else
+            appendPoints(out, {h1 - start, h2 - start, d}, syntax);
     }
     out += '"';
     if (color) {
@@ -165,17 +196,22 @@ Vec2 coonsInterior(const Vec2 (&q)[4][4], bool mirrorU, bool mirrorV) {
 }
 
 void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::string& id,
-                        bool bicubic, bool withTensor) {
+                        bool bicubic, const NumberSyntax& syntax) {
+    const int dec = syntax.decimals;
+    // The tensor attribute is left out when the Coons interior Inkscape would assume is the
+    // same point at the precision written (exact syntax), or within kTensorTolerance px
+    // (compact syntax: the interior points move the patch's inside, not its edges).
+    const double tensorTol = syntax.compact ? kTensorTolerance : 1.5e-4;
     const int nu = g.columns, nv = g.rows;
     // Corners as the reader reconstructs them.
     std::vector<Vec2> rec(static_cast<size_t>(nu + 1) * (nv + 1));
     auto R = [&](int c, int r) -> Vec2& { return rec[static_cast<size_t>(r) * (nu + 1) + c]; };
-    R(0, 0) = printed(g.P(0, 0));
+    R(0, 0) = printed(g.P(0, 0), dec);
 
     out += "<meshgradient id=\"" + id + "\" gradientUnits=\"userSpaceOnUse\" x=\"";
-    appendSvgNumber(out, g.P(0, 0).x, false);
+    appendSvgNumber(out, g.P(0, 0).x, false, dec);
     out += "\" y=\"";
-    appendSvgNumber(out, g.P(0, 0).y, false);
+    appendSvgNumber(out, g.P(0, 0).y, false, dec);
     out += '"';
     if (bicubic) out += " type=\"bicubic\"";
     out += ">\n";
@@ -187,26 +223,26 @@ void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::stri
             if (r == 0) {  // top, from (c,0) to (c+1,0)
                 const auto& h = g.H(c, 0);
                 R(c + 1, 0) = appendStop(stops, R(c, 0), h[0], h[1], g.P(c + 1, 0), false,
-                                         c == 0 ? &g.C(c, 0) : nullptr);
+                                         c == 0 ? &g.C(c, 0) : nullptr, syntax);
             }
             {  // right, from (c+1,r) to (c+1,r+1)
                 const auto& h = g.V(c + 1, r);
                 R(c + 1, r + 1) = appendStop(stops, R(c + 1, r), h[0], h[1], g.P(c + 1, r + 1),
-                                             false, r == 0 ? &g.C(c + 1, r) : nullptr);
+                                             false, r == 0 ? &g.C(c + 1, r) : nullptr, syntax);
             }
             {  // bottom, from (c+1,r+1) to (c,r+1); closes the patch unless c == 0
                 const auto& h = g.H(c, r + 1);
                 const Vec2 e = appendStop(stops, R(c + 1, r + 1), h[1], h[0], g.P(c, r + 1),
-                                          c > 0, &g.C(c + 1, r + 1));
+                                          c > 0, &g.C(c + 1, r + 1), syntax);
                 if (c == 0) R(0, r + 1) = e;
             }
             if (c == 0) {  // left, from (0,r+1) to (0,r): always closing
                 const auto& h = g.V(0, r);
-                appendStop(stops, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1));
+                appendStop(stops, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1), syntax);
             }
             out += "<meshpatch";
             const size_t pi = g.patchIndex(c, r);
-            if (withTensor && g.tensorSet[pi]) {
+            if (g.tensorSet[pi]) {
                 // Reconstructed control net, to compare with the Coons interior Inkscape
                 // would assume: the attribute is left out when it would change nothing.
                 Vec2 q[4][4];
@@ -216,78 +252,192 @@ void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::stri
                 q[3][0] = c30;
                 q[3][3] = c33;
                 q[0][3] = c03;
-                q[1][0] = c00 + printed(g.H(c, r)[0] - c00);
-                q[2][0] = c00 + printed(g.H(c, r)[1] - c00);
-                q[3][1] = c30 + printed(g.V(c + 1, r)[0] - c30);
-                q[3][2] = c30 + printed(g.V(c + 1, r)[1] - c30);
-                q[2][3] = c33 + printed(g.H(c, r + 1)[1] - c33);
-                q[1][3] = c33 + printed(g.H(c, r + 1)[0] - c33);
-                q[0][2] = c03 + printed(g.V(c, r)[1] - c03);
-                q[0][1] = c03 + printed(g.V(c, r)[0] - c03);
+                q[1][0] = c00 + printed(g.H(c, r)[0] - c00, dec);
+                q[2][0] = c00 + printed(g.H(c, r)[1] - c00, dec);
+                q[3][1] = c30 + printed(g.V(c + 1, r)[0] - c30, dec);
+                q[3][2] = c30 + printed(g.V(c + 1, r)[1] - c30, dec);
+                q[2][3] = c33 + printed(g.H(c, r + 1)[1] - c33, dec);
+                q[1][3] = c33 + printed(g.H(c, r + 1)[0] - c33, dec);
+                q[0][2] = c03 + printed(g.V(c, r)[1] - c03, dec);
+                q[0][1] = c03 + printed(g.V(c, r)[0] - c03, dec);
                 const auto& t = g.tensor[pi];
                 const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
                                        coonsInterior(q, true, true), coonsInterior(q, false, true)};
                 const Vec2 base[4] = {c00, c30, c33, c03};
                 bool differs = false;
                 for (int k = 0; k < 4; ++k)
-                    if (!nearlyEqual(printed(t[k] - base[k]), coons[k] - base[k], 1.5e-4))
+                    if (!nearlyEqual(printed(t[k] - base[k], dec), coons[k] - base[k], tensorTol))
                         differs = true;
                 if (differs) {
                     out += " tensor=\"";
-                    for (int k = 0; k < 4; ++k) {
-                        if (k) out += ' ';
-                        appendPair(out, t[k] - base[k]);
-                    }
+                    const size_t at = out.size();
+                    appendPoints(out, {t[0] - base[0], t[1] - base[1], t[2] - base[2], t[3] - base[3]},
+                                 syntax);
+                    if (!syntax.compact) out.erase(at, 1);  // no space before the first pair
                     out += '"';
                 }
             }
             out += '>';
             out += stops;
-            out += "</meshpatch>\n";
+            out += syntax.compact ? "</meshpatch>" : "</meshpatch>\n";
         }
         out += "</meshrow>\n";
     }
     out += "</meshgradient>\n";
 }
 
-void appendPoint(std::string& out, Vec2 p) {
-    appendSvgNumber(out, p.x);
-    out += ',';
-    appendSvgNumber(out, p.y);
+// Where a piece of a slit mesh meets the piece above or below it outside the holes: the patch
+// columns whose top (bottom) edge is such a seam.
+struct PieceSeams {
+    std::vector<int> top, bottom;
+};
+
+// Patch columns whose edge on grid row `row` of `mesh` lies outside every slit of that row.
+std::vector<int> seamColumns(const GradientMesh& mesh, int row) {
+    std::vector<int> out;
+    for (int i = 0; i < mesh.columns(); ++i) {
+        bool inSlit = false;
+        for (const Slit& s : mesh.slits) inSlit = inSlit || (s.row == row && i >= s.i0 && i < s.i1);
+        if (!inSlit) out.push_back(i);
+    }
+    return out;
 }
 
-// The outline of a hole-free mesh as one closed path of its boundary curves.
-void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& id) {
+// One PieceSeams per piece of splitIntoLegacyMeshes(mesh), in its order.
+std::vector<PieceSeams> legacySeams(const GradientMesh& mesh) {
+    std::vector<int> cuts;
+    for (const Slit& s : mesh.slits) cuts.push_back(s.row);
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    std::vector<PieceSeams> out(cuts.size() + 1);
+    for (size_t k = 0; k < cuts.size(); ++k) {
+        out[k].bottom = seamColumns(mesh, cuts[k]);
+        out[k + 1].top = out[k].bottom;
+    }
+    return out;
+}
+
+double signedArea(const std::vector<Vec2>& polygon) {
+    double a = 0;
+    for (size_t k = 0; k < polygon.size(); ++k) {
+        const Vec2 p = polygon[k], q = polygon[(k + 1) % polygon.size()];
+        a += p.x * q.y - q.x * p.y;
+    }
+    return 0.5 * a;
+}
+
+// A band around the patch edges of grid row `row` at `columns`, as extra subpaths of a piece's
+// fill path, wound like its outline (`orientation`: the outline's signed area sign). Inkscape
+// paints a mesh only inside its patches, without anti-aliasing there, and anti-aliases the fill
+// path: two pieces whose paths both reach across their shared edge each paint the pixels whose
+// centres they cover, fully, so no seam shows between them. The band reaches 1 px beyond the
+// edge's control polygon on both sides.
+void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
+                    const std::vector<int>& columns, double orientation,
+                    const NumberSyntax& syntax) {
+    for (int i : columns) {
+        const Vec2 a = g.P(i, row), b = g.P(i + 1, row);
+        const Vec2 d = b - a;
+        const double len = norm(d);
+        if (!(len > 0)) continue;
+        const Vec2 n = {-d.y / len, d.x / len};
+        double reach = 1.0;
+        for (Vec2 h : {g.H(i, row)[0], g.H(i, row)[1]}) reach = std::max(reach, 1.0 + std::fabs(dot(h - a, n)));
+        std::vector<Vec2> quad = {a + reach * n, b + reach * n, b - reach * n, a - reach * n};
+        if (signedArea(quad) * orientation < 0) std::swap(quad[1], quad[3]);
+        out += 'M';
+        appendPoints(out, {quad[0]}, syntax);
+        out += 'L';
+        appendPoints(out, {quad[1], quad[2], quad[3]}, syntax);
+        out += 'Z';
+    }
+}
+
+// The outline of a hole-free mesh as one closed path of its boundary curves, plus bands over
+// its seams with neighbouring pieces.
+void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& id,
+                   const NumberSyntax& syntax, const PieceSeams& seams = {}) {
     const int C = g.columns, R = g.rows;
     out += "<path fill=\"url(#" + id + ")\" d=\"M";
-    appendPoint(out, g.P(0, 0));
+    appendPoints(out, {g.P(0, 0)}, syntax);
     auto curve = [&](Vec2 h1, Vec2 h2, Vec2 e) {
-        out += " C";
-        appendPoint(out, h1);
-        out += ' ';
-        appendPoint(out, h2);
-        out += ' ';
-        appendPoint(out, e);
+        out += syntax.compact ? "C" : " C";
+        appendPoints(out, {h1, h2, e}, syntax);
     };
     for (int i = 0; i < C; ++i) curve(g.H(i, 0)[0], g.H(i, 0)[1], g.P(i + 1, 0));
     for (int j = 0; j < R; ++j) curve(g.V(C, j)[0], g.V(C, j)[1], g.P(C, j + 1));
     for (int i = C - 1; i >= 0; --i) curve(g.H(i, R)[1], g.H(i, R)[0], g.P(i, R));
     for (int j = R - 1; j >= 0; --j) curve(g.V(0, j)[1], g.V(0, j)[0], g.P(0, j));
-    out += " Z\"/>\n";
+    out += syntax.compact ? "Z" : " Z";
+    if (!seams.top.empty() || !seams.bottom.empty()) {
+        std::vector<Vec2> corners;
+        for (int i = 0; i < C; ++i) corners.push_back(g.P(i, 0));
+        for (int j = 0; j < R; ++j) corners.push_back(g.P(C, j));
+        for (int i = C; i > 0; --i) corners.push_back(g.P(i, R));
+        for (int j = R; j > 0; --j) corners.push_back(g.P(0, j));
+        const double orientation = signedArea(corners) >= 0 ? 1.0 : -1.0;
+        appendSeamBand(out, g, 0, seams.top, orientation, syntax);
+        appendSeamBand(out, g, R, seams.bottom, orientation, syntax);
+    }
+    out += "\"/>\n";
+}
+
+// The hole-free meshes written, with their seams to each other.
+struct SvgPiece {
+    GradientMesh mesh;
+    PieceSeams seams;
+};
+
+std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
+    std::vector<SvgPiece> pieces;
+    for (const GradientMesh& mesh : doc.meshes) {
+        if (legacy || !mesh.slits.empty()) {
+            std::vector<GradientMesh> split = splitIntoLegacyMeshes(mesh);
+            const std::vector<PieceSeams> seams = legacySeams(mesh);
+            for (size_t k = 0; k < split.size(); ++k)
+                pieces.push_back({std::move(split[k]), k < seams.size() ? seams[k] : PieceSeams{}});
+        } else {
+            pieces.push_back({mesh, {}});
+        }
+    }
+    return pieces;
 }
 
 }  // namespace
 
+// Exact mode's patch count for the whole document, checked against the cap before writing.
+int64_t exactPatchCount(const std::vector<SvgPiece>& pieces, const WriteOptions& options) {
+    int64_t total = 0;
+    for (const SvgPiece& p : pieces) {
+        const GradientMesh& piece = p.mesh;
+        int ignored = 1;
+        const SvgPatchGrid fine =
+            refinedGrid(piece, options.colorTolerance, options.minPiece, &ignored);
+        total += fine.columns * int64_t(fine.rows);
+    }
+    return total;
+}
+
 std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats) {
-    const bool editable = options.svgColors == "editable";
-    if (!editable && options.svgColors != "exact")
+    const bool exact = options.svgColors == "exact";
+    if (!exact && options.svgColors != "bicubic" && options.svgColors != "editable")
         throw Error("unknown SVG colour mode '" + options.svgColors +
-                    "' (expected 'exact' or 'editable')");
+                    "' (expected 'bicubic' or 'exact')");
     if (!(options.colorTolerance > 0) || !std::isfinite(options.colorTolerance))
         throw Error("the colour tolerance must be a positive number");
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
 
+    const std::vector<SvgPiece> pieces = svgPieces(doc, options.legacy);
+    if (exact) {
+        const int64_t count = exactPatchCount(pieces, options);
+        if (count > options.maxSvgPatches)
+            throw Error("exact SVG colours need " + std::to_string(count) +
+                        " SVG patches, over the cap of " + std::to_string(options.maxSvgPatches) +
+                        "; write the default bicubic SVG instead (--svg-colors bicubic)");
+    }
+    const NumberSyntax syntax =
+        exact ? NumberSyntax{} : NumberSyntax{kSvgDecimalsCompact, true};
     SvgEncodeStats local;
     std::string out;
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
@@ -297,28 +447,22 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
     std::string paths;
     int n = 0;
-    for (const GradientMesh& mesh : doc.meshes) {
-        std::vector<GradientMesh> pieces;
-        if (options.legacy || !mesh.slits.empty())
-            pieces = splitIntoLegacyMeshes(mesh);
-        else
-            pieces.push_back(mesh);
-        for (const GradientMesh& piece : pieces) {
-            const std::string id = "mesh" + std::to_string(n++);
-            const SvgPatchGrid base = gridFromPatches(meshPatches(piece), piece.columns(),
-                                                      piece.rows());
-            if (editable) {
-                appendMeshGradient(out, base, id, true, true);
-                local.svgPatches += base.columns * int64_t(base.rows);
-            } else {
-                const SvgPatchGrid fine = refinedGrid(piece, options.colorTolerance, options.minPiece,
-                                                      &local.maxSubdivision);
-                appendMeshGradient(out, fine, id, false, true);
-                local.svgPatches += fine.columns * int64_t(fine.rows);
-            }
-            ++local.meshGradients;
-            appendOutline(paths, base, id);
+    for (const SvgPiece& p : pieces) {
+        const GradientMesh& piece = p.mesh;
+        const std::string id = "m" + std::to_string(n++);
+        const SvgPatchGrid base =
+            gridFromPatches(meshPatches(piece), piece.columns(), piece.rows());
+        if (exact) {
+            const SvgPatchGrid fine = refinedGrid(piece, options.colorTolerance, options.minPiece,
+                                                  &local.maxSubdivision);
+            appendMeshGradient(out, fine, id, false, syntax);
+            local.svgPatches += fine.columns * int64_t(fine.rows);
+        } else {
+            appendMeshGradient(out, base, id, true, syntax);
+            local.svgPatches += base.columns * int64_t(base.rows);
         }
+        ++local.meshGradients;
+        appendOutline(paths, base, id, syntax, p.seams);
     }
     out += "</defs>\n";
     out += paths;

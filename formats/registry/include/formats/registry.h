@@ -35,7 +35,11 @@ struct WriteOptions {
     int compactLevel = 0;             // .gmb compact: coarser grids, 0 to kGmbMaxCompactLevel
                                       // (gmb.h), or kCompactLevelAuto (image conversions only)
     bool legacy = false;              // write every mesh as its hole-free pieces
-    std::string svgColors = "exact";  // SVG: "exact" (k×k subdivision) or "editable" (bicubic)
+    // SVG: "bicubic" (one SVG patch per mesh patch, type="bicubic", compact syntax; "editable"
+    // is its former name) or "exact" (each patch subdivided until bilinear colour is within
+    // colorTolerance, at most maxSvgPatches SVG patches in all).
+    std::string svgColors = "bicubic";
+    int64_t maxSvgPatches = 2'000'000;
     double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
     double minPiece = 1.0;  // exact colours: no sub-patch shorter than this along s or t,
                             // canvas pixels (exactColorPieces); 0: no limit

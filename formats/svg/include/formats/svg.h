@@ -6,14 +6,19 @@
 // a <path> of its own outline.
 //
 // Colour modes (WriteOptions::svgColors):
+//  - "bicubic" (the default): one SVG patch per mesh patch, type="bicubic", in a compact syntax
+//    (positions to 1/100 px, relative, separators only where needed; colours 8-bit). A
+//    ColorModel::Bicubic mesh is then drawn by Inkscape as we draw it; a Hermite mesh gets
+//    Inkscape's slopes instead of its own (svgEditableDeviation says how far that is; the
+//    `gradmesh` command refits such meshes to the bicubic model before writing).
 //  - "exact": each patch is split into exact Bézier sub-patches until the bilinear colour that
 //    meshgradient patches interpolate is within WriteOptions::colorTolerance of ours, or the
 //    pieces are WriteOptions::minPiece pixels long (exactColorPieces); the `tensor` attribute
 //    carries the exact interior control points. A meshgradient is a regular grid, so patch
 //    column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j the largest
-//    per-patch count along s / t over that column / row.
-//  - "editable": one SVG patch per mesh patch, type="bicubic": Inkscape recomputes colour
-//    derivatives with its own rule (svgEditableDeviation says how far that is from ours).
+//    per-patch count along s / t over that column / row. Refused over
+//    WriteOptions::maxSvgPatches SVG patches.
+// A path ending in ".svgz" is written gzip-compressed; gzip input is read either way.
 //
 // Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and
 // how the Ferguson data is recovered from Bézier handles).
@@ -47,8 +52,8 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options);
 //    CornerTangent break. v-handles cannot break in our representation: they are averaged;
 //  - tensor points (and the Coons interior) are not representable with zero twists: the
 //    interior becomes the zero-twist one of the recovered edges;
-//  - colours from the stops (8-bit in our files); colour derivatives: type="bicubic" applies
-//    applyColorRule; otherwise (bilinear patches) the derivative of the parabola through the
+//  - colours from the stops (8-bit in our files); colour derivatives: type="bicubic" gives a
+//    ColorModel::Bicubic mesh (Inkscape's own rule, exactly); otherwise (bilinear patches) the derivative of the parabola through the
 //    node and its two neighbours along the grid line, one-sided at the mesh border and at
 //    u-breaks. Corner colours are exact; inside, a Coons patch's bilinear colour differs from the
 //    zero-twist interpolant by its twist.
@@ -62,8 +67,9 @@ struct SvgReadLimits {
     static constexpr int maxHrefChain = 64;
 };
 
-// How far Inkscape's bicubic colour rule is from the mesh's own colour derivatives: what an
-// "editable" file loses. Max over the document's meshes.
+// How far Inkscape's bicubic colour rule is from the mesh's own colour derivatives: what a
+// bicubic SVG of a Hermite mesh written without a refit loses. Max over the document's Hermite
+// meshes (a Bicubic mesh loses nothing: 0).
 struct SvgEditableDeviation {
     // colorRuleDeviation: 0–1 colour per unit of our global parameters.
     double ruleDeviation = 0;
