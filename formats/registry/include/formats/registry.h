@@ -40,7 +40,7 @@ struct WriteOptions {
     // colorTolerance, at most maxSvgPatches SVG patches in all).
     std::string svgColors = "bicubic";
     int64_t maxSvgPatches = 2'000'000;
-    double colorTolerance = 0.5 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
+    double colorTolerance = 1.0 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
     double minPiece = 1.0;  // exact colours: no sub-patch shorter than this along s or t,
                             // canvas pixels (exactColorPieces); 0: no limit
     bool textShading = false;         // EPS/PDF: text DataSource instead of the binary stream
