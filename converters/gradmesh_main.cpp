@@ -1,7 +1,6 @@
 // The `gradmesh` command. Only this layer turns errors into messages and exit codes:
 // 0 success, 1 a failure with the input or output, 2 a usage error.
 #include <malloc.h>
-#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdio>
@@ -14,6 +13,7 @@
 #include <vector>
 
 #include "formats/gmb.h"
+#include "formats/input_file.h"
 #include "formats/raster.h"
 #include "image_command.h"
 #include "formats/registry.h"
@@ -151,11 +151,9 @@ std::array<float, 4> parseColor(const std::string& text) {
     throw UsageError("--background expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
 }
 
-void requireInputFile(const std::string& path) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0) throw Error("no such file", path);
-    if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
-}
+// Refuses a missing input and anything but a regular file (a FIFO would hang the run, a device
+// feed it without end) before anything opens it.
+void requireInputFile(const std::string& path) { gm::requireRegularFile(path); }
 
 // Refuses an output that is the input (same file, whatever the spelling).
 void requireDistinct(const std::string& in, const std::string& out, const char* role = "input") {

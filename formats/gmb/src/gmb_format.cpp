@@ -325,6 +325,7 @@
 #include <algorithm>
 
 #include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "formats/gmb.h"
 #include "gmb_pvt.h"
 #include "meshcore/error.h"

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "meshcore/error.h"
 #include "meshcore/mesh_lines.h"
 #include "meshcore/render.h"
@@ -48,6 +49,7 @@ bool linearExtension(const std::string& path) {
 }  // namespace
 
 RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
+    requireRegularFile(path);  // OpenImageIO would block on a FIFO and read a device without end
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha as stored
     auto in = OIIO::ImageInput::open(path, &config);

@@ -70,21 +70,4 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
     out.commit();
 }
 
-std::string readWholeFile(const std::string& path, uint64_t maxBytes) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0)
-        throw Error(std::string("cannot open: ") + std::strerror(errno), path);
-    if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(std::string("cannot open: ") + std::strerror(errno), path);
-    if (static_cast<uint64_t>(st.st_size) > maxBytes)
-        throw Error("file is " + std::to_string(st.st_size) + " bytes, over the limit of " +
-                        std::to_string(maxBytes),
-                    path);
-    std::string data(static_cast<size_t>(st.st_size), '\0');
-    in.read(&data[0], static_cast<std::streamsize>(data.size()));
-    if (static_cast<uint64_t>(in.gcount()) != data.size()) throw Error("read failed", path);
-    return data;
-}
-
 }  // namespace gm

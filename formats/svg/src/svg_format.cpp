@@ -1,6 +1,7 @@
 #include <cctype>
 
 #include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
 

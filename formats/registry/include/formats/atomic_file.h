@@ -1,7 +1,6 @@
 // No partial output ever: write to a temporary file beside the target, rename on success.
 #pragma once
 
-#include <cstdint>
 #include <string>
 
 namespace gm {
@@ -28,8 +27,5 @@ private:
 // Writes `bytes` to `path` atomically; throws gm::Error naming `path` on failure (missing
 // directory, no permission, disk full).
 void writeFileAtomically(const std::string& path, const std::string& bytes);
-
-// Reads a whole file, refusing files over maxBytes before allocating.
-std::string readWholeFile(const std::string& path, uint64_t maxBytes);
 
 }  // namespace gm
