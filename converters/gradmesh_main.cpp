@@ -19,6 +19,7 @@
 #include "formats/registry.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
+#include "meshcore/printable_text.h"
 #include "meshcore/render.h"
 #include "meshcore/split_legacy.h"
 #include "meshcore/synthetic_meshes.h"
@@ -183,6 +184,10 @@ std::string oneLine(const std::string& message) {
     return line;
 }
 
+// What an error prints: one line, input text in it (file names, SVG ids, attribute values)
+// with its control characters escaped.
+std::string messageLine(const std::string& message) { return gm::printableText(oneLine(message)); }
+
 const gm::MeshFormat* readerFor(const std::string& path) {
     const gm::MeshFormat* f = gm::FormatRegistry::builtin().forReading(path);
     if (!f || !f->canRead()) {
@@ -307,7 +312,7 @@ int cmdInfo(const Args& a) {
     }
     std::printf("file: %s\nformat: %s\nbytes: %llu\ncanvas: %d x %d\nmeshes: %zu\npatches: %d\n"
                 "holes: %d\nlegacy pieces: %d\n",
-                in.c_str(), readerFor(in)->name().c_str(), static_cast<unsigned long long>(bytes),
+                gm::printableText(in).c_str(), readerFor(in)->name().c_str(), static_cast<unsigned long long>(bytes),
                 doc.width, doc.height, doc.meshes.size(), patches, holes, pieces);
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         const gm::GradientMesh& m = doc.meshes[k];
@@ -400,7 +405,8 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (!kHelp.count(command)) {
-        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n", command.c_str());
+        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n",
+                     gm::printableText(command).c_str());
         return 2;
     }
     for (int k = 2; k < argc; ++k) {
@@ -426,16 +432,16 @@ int main(int argc, char** argv) {
         if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
     } catch (const UsageError& e) {
         std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),
-                     oneLine(e.what()).c_str(), command.c_str());
+                     messageLine(e.what()).c_str(), command.c_str());
         return 2;
     } catch (const gm::Error& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), messageLine(e.what()).c_str());
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "gradmesh %s: out of memory\n", command.c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), messageLine(e.what()).c_str());
         return 1;
     }
     return 2;
