@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -391,6 +392,8 @@ int main(int argc, char** argv) {
     // Blocks up to 32 MB stay in the heap, which is trimmed only above 256 MB of free space.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
+    // Over a file size limit (ulimit -f), a write fails with an error instead of killing the run.
+    std::signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) {
         std::fputs(kMainHelp, stderr);
         return 2;

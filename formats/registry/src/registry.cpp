@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
+#include "formats/atomic_file.h"
 #include "formats/input_file.h"
 #include "meshcore/error.h"
 
@@ -12,8 +13,14 @@ Document MeshFormat::read(const std::string& path, const ReadOptions&) const {
     throw Error("the " + name() + " format cannot be read", path);
 }
 
-void MeshFormat::write(const Document&, const std::string& path, const WriteOptions&) const {
+std::string MeshFormat::encode(const Document&, const std::string& path,
+                               const WriteOptions&) const {
     throw Error("the " + name() + " format cannot be written", path);
+}
+
+void MeshFormat::write(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const {
+    writeFileAtomically(path, encode(doc, path, options));
 }
 
 std::string lowerExtension(const std::string& path) {

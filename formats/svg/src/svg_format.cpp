@@ -1,6 +1,5 @@
 #include <cctype>
 
-#include "formats/atomic_file.h"
 #include "formats/input_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
@@ -32,16 +31,14 @@ public:
         return decodeSvg(readWholeFile(path, limit), options.limits, path);
     }
 
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
-        std::string bytes;
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         try {
-            bytes = encodeSvg(doc, options);
+            return encodeSvg(doc, options);
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error(e.reason(), path, e.where());
         }
-        writeFileAtomically(path, bytes);
     }
 };
 
