@@ -1,5 +1,5 @@
-// The command line's outputs (issue 27, cases 2-3): a full disk leaves no truncated file, and
-// temporaries cannot be hijacked by planted symlinks.
+// The command line's outputs (issue 27, cases 1-3): an existing output survives any failed run,
+// a full disk leaves no truncated file, and temporaries cannot be hijacked by planted symlinks.
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
@@ -11,6 +11,32 @@ using Catch::Matchers::Contains;
 using gmtest::q;
 using gmtest::Run;
 using gmtest::slurp;
+
+TEST_CASE("case 1: an existing output survives a report that cannot be written",
+          "[output_safety][cli]") {
+    const fs::path d = tmpDir("cli_late_failure");
+    spit(d / "out.gmb", "precious");
+    Run r = gradmesh(convertApple(d / "out.gmb", "/proc/r.json"), d);
+    checkFailedCleanly(r, "r.json");
+    CHECK(slurp(d / "out.gmb") == "precious");
+    CHECK(temporaries(d).empty());
+
+    // A report into a read-only directory: a read-only mount (root ignores a directory's mode).
+    const fs::path ro = d / "readonly";
+    fs::create_directories(ro);
+    SmallTmpfs mount(ro, 4096, /*readOnly=*/true);
+    if (!mount.mounted()) {
+        if (::geteuid() == 0) {
+            WARN("cannot mount a read-only tmpfs and root writes anywhere: read-only case skipped");
+            return;
+        }
+        fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
+    }
+    r = gradmesh(convertApple(d / "out.gmb", (ro / "r.json").string()), d);
+    checkFailedCleanly(r, "r.json");
+    CHECK(slurp(d / "out.gmb") == "precious");
+    CHECK(temporaries(d).empty());
+}
 
 TEST_CASE("case 2: a full disk leaves neither a truncated output nor a temporary",
           "[output_safety][cli]") {
