@@ -19,6 +19,7 @@
 #include "image_command.h"
 #include "formats/registry.h"
 #include "formats/svg.h"
+#include "formats/temp_registry.h"
 #include "meshcore/error.h"
 #include "meshcore/printable_text.h"
 #include "meshcore/render.h"
@@ -392,7 +393,9 @@ int main(int argc, char** argv) {
     // Blocks up to 32 MB stay in the heap, which is trimmed only above 256 MB of free space.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
-    // Over a file size limit (ulimit -f), a write fails with an error instead of killing the run.
+    // Interrupted or terminated, the run removes its temporaries before it dies; over a file
+    // size limit (ulimit -f), a write fails with an error instead of killing the run.
+    gm::removeTemporariesOnSignals();
     std::signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) {
         std::fputs(kMainHelp, stderr);
