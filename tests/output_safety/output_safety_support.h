@@ -78,6 +78,9 @@ public:
             const int err = ::open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
             ::dup2(out, 1);
             ::dup2(err, 2);
+            // A shell starts background jobs with SIGINT ignored, and gradmesh keeps an inherited
+            // SIG_IGN: the signal tests need the default.
+            for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::signal(sig, SIG_DFL);
             std::vector<std::string> all = {GRADMESH_EXE};
             all.insert(all.end(), args.begin(), args.end());
             std::vector<char*> argv;

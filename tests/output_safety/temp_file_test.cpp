@@ -102,6 +102,7 @@ TEST_CASE("SIGTERM removes the live temporaries before the process dies", "[outp
     if (child == 0) {
         // Only async-signal-safe exits from here: the child must never return into Catch.
         ::close(fds[0]);
+        ::signal(SIGTERM, SIG_DFL);  // as a shell may have left it ignored
         gm::removeTemporariesOnSignals();
         try {
             gm::TempFile a((d / "a.gmb").string()), b((d / "b.png").string());
