@@ -1,6 +1,7 @@
 #include "formats/temp_file.h"
 
 #include <cerrno>
+#include <climits>
 #include <csignal>
 #include <cstring>
 #include <ctime>
@@ -63,7 +64,7 @@ long pidInTemporaryName(const std::string& rest) {
         if (rest[k] < '0' || rest[k] > '9') return -1;
         pid = pid * 10 + (rest[k] - '0');
     }
-    return pid;
+    return pid <= INT_MAX ? pid : -1;  // a larger one would be a negative pid_t: a process group
 }
 
 bool processIsGone(long pid) { return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH; }
