@@ -12,23 +12,34 @@ std::string hexEscape(const char* format, unsigned value) {
     return b;
 }
 
+// What a UTF-8 lead byte announces: the sequence's length (0: not a lead byte), the smallest
+// code point that needs it (shorter forms are overlong), and the code point's bits it carries.
+struct Utf8Lead {
+    size_t length;
+    unsigned minimum;
+    unsigned bits;
+};
+
+Utf8Lead utf8Lead(unsigned char c) {
+    if (c >= 0xC2 && c <= 0xDF) return {2, 0x80, c & 0x1Fu};
+    if (c >= 0xE0 && c <= 0xEF) return {3, 0x800, c & 0x0Fu};
+    if (c >= 0xF0 && c <= 0xF4) return {4, 0x10000, c & 0x07u};
+    return {0, 0, 0};
+}
+
 // Length of the well-formed UTF-8 sequence starting at s[at] (2 to 4), 0 when there is none.
 size_t utf8SequenceLength(const std::string& s, size_t at) {
-    const unsigned char lead = static_cast<unsigned char>(s[at]);
-    size_t n = 0;
-    unsigned minimum = 0, code = 0;
-    if (lead >= 0xC2 && lead <= 0xDF) n = 2, minimum = 0x80, code = lead & 0x1F;
-    else if (lead >= 0xE0 && lead <= 0xEF) n = 3, minimum = 0x800, code = lead & 0x0F;
-    else if (lead >= 0xF0 && lead <= 0xF4) n = 4, minimum = 0x10000, code = lead & 0x07;
-    else return 0;
-    if (at + n > s.size()) return 0;
-    for (size_t k = 1; k < n; ++k) {
+    const Utf8Lead lead = utf8Lead(static_cast<unsigned char>(s[at]));
+    if (lead.length == 0 || at + lead.length > s.size()) return 0;
+    unsigned code = lead.bits;
+    for (size_t k = 1; k < lead.length; ++k) {
         const unsigned char c = static_cast<unsigned char>(s[at + k]);
         if ((c & 0xC0) != 0x80) return 0;
-        code = (code << 6) | (c & 0x3F);
+        code = (code << 6) | (c & 0x3Fu);
     }
-    if (code < minimum || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
-    return n;
+    const bool surrogate = code >= 0xD800 && code <= 0xDFFF;
+    if (code < lead.minimum || code > 0x10FFFF || surrogate) return 0;
+    return lead.length;
 }
 
 }  // namespace

@@ -80,7 +80,8 @@ TEST_CASE("case 3: symlinks planted at the old temporary names are not followed"
     spit(d / "victim", "unrelated");
     // `exec` keeps the shell's PID, so the names gradmesh used to predict are known here.
     const std::string plant = "cd " + q(d) +
-                              " && ln -s victim .s.gmb.tmp$$-0.gmb && ln -s victim .out.gmb.tmp$$-0.gmb"
+                              " && ln -s victim .s.gmb.tmp$$-0.gmb"
+                              " && ln -s victim .out.gmb.tmp$$-0.gmb"
                               " && ln -s victim r.json.tmp$$ && exec ";
     CHECK(gmtest::runCommand(plant + GRADMESH_EXE + " sample s.gmb") == 0);
     CHECK(gmtest::runCommand(plant + GRADMESH_EXE + " " + convertApple("out.gmb", "r.json") +

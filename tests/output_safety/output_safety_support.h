@@ -74,8 +74,9 @@ public:
     Background(const std::vector<std::string>& args, const fs::path& dir) {
         pid_ = ::fork();
         if (pid_ == 0) {
-            const int out = ::open((dir / "stdout.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            const int err = ::open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            const int flags = O_WRONLY | O_CREAT | O_TRUNC;
+            const int out = ::open((dir / "stdout.txt").c_str(), flags, 0644);
+            const int err = ::open((dir / "stderr.txt").c_str(), flags, 0644);
             ::dup2(out, 1);
             ::dup2(err, 2);
             // A shell starts background jobs with SIGINT ignored, and gradmesh keeps an inherited

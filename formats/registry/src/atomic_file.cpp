@@ -25,7 +25,8 @@ void OutputBatch::write(const std::string& target, const std::string& bytes) {
 
 void OutputBatch::commit() {
     for (const auto& f : files_)
-        if (!f->written()) throw Error("internal: an output was reserved but not written", f->target());
+        if (!f->written())
+            throw Error("internal: an output was reserved but not written", f->target());
     for (const auto& f : files_) f->moveIntoPlace();
     files_.clear();
 }

@@ -1,8 +1,9 @@
 #include "formats/file_io.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
-#include <unistd.h>
 
 #include "meshcore/error.h"
 

@@ -1,11 +1,12 @@
 #include "formats/temp_registry.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <cerrno>
 #include <climits>
 #include <csignal>
 #include <cstring>
-#include <unistd.h>
 
 namespace gm {
 

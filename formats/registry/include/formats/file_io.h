@@ -2,9 +2,10 @@
 // can make a write, an fsync or a close fail (a full disk, an I/O error) without a full disk.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstddef>
 #include <string>
-#include <sys/types.h>
 
 namespace gm {
 
