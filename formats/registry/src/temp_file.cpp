@@ -107,13 +107,16 @@ TempFile::TempFile(const std::string& target) : target_(target) {
         joinPath(dir, temporaryPrefix(fileNameOf(target)) + std::to_string(getpid()) + "-");
     for (int attempt = 0; attempt < 100; ++attempt) {
         path_ = prefix + randomChars();
+        // Registered before it exists: a signal right after the open must find it (any thread
+        // may take the signal, so blocking it here would not close that gap). Were the name
+        // taken (EEXIST), a signal before the unregister would remove a file planted at our
+        // own random, PID-stamped name: harmless.
+        slot_ = registerTemporary(path_);
         fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-        if (fd_ >= 0) {
-            // Only once it is ours: a signal handler must never remove a file planted here.
-            slot_ = registerTemporary(path_);
-            return;
-        }
+        if (fd_ >= 0) return;
         const int err = errno;
+        unregisterTemporary(slot_);
+        slot_ = -1;
         path_.clear();
         if (err != EEXIST)
             throw Error(std::string("cannot create a file in the output's directory: ") +
