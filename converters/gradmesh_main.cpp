@@ -1,11 +1,11 @@
 // The `gradmesh` command. Only this layer turns errors into messages and exit codes:
 // 0 success, 1 a failure with the input or output, 2 a usage error.
 #include <malloc.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -17,11 +17,14 @@
 
 #include "converters/bicubic_model.h"
 #include "formats/gmb.h"
+#include "formats/input_file.h"
 #include "formats/raster.h"
 #include "image_command.h"
 #include "formats/registry.h"
 #include "formats/svg.h"
+#include "formats/temp_registry.h"
 #include "meshcore/error.h"
+#include "meshcore/printable_text.h"
 #include "meshcore/render.h"
 #include "meshcore/split_legacy.h"
 #include "meshcore/synthetic_meshes.h"
@@ -162,11 +165,9 @@ std::array<float, 4> parseColor(const std::string& text) {
     throw UsageError("--background expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
 }
 
-void requireInputFile(const std::string& path) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0) throw Error("no such file", path);
-    if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
-}
+// Refuses a missing input and anything but a regular file (a FIFO would hang the run, a device
+// feed it without end) before anything opens it.
+void requireInputFile(const std::string& path) { gm::requireRegularFile(path); }
 
 // Refuses an output that is the input (same file, whatever the spelling).
 void requireDistinct(const std::string& in, const std::string& out, const char* role = "input") {
@@ -195,6 +196,10 @@ std::string oneLine(const std::string& message) {
     for (const std::string& p : parts) line += (line.empty() ? "" : "; ") + p;
     return line;
 }
+
+// What an error prints: one line, input text in it (file names, SVG ids, attribute values)
+// with its control characters escaped.
+std::string messageLine(const std::string& message) { return gm::printableText(oneLine(message)); }
 
 const gm::MeshFormat* readerFor(const std::string& path) {
     const gm::MeshFormat* f = gm::FormatRegistry::builtin().forReading(path);
@@ -320,7 +325,7 @@ int cmdInfo(const Args& a) {
     }
     std::printf("file: %s\nformat: %s\nbytes: %llu\ncanvas: %d x %d\nmeshes: %zu\npatches: %d\n"
                 "holes: %d\nlegacy pieces: %d\n",
-                in.c_str(), readerFor(in)->name().c_str(), static_cast<unsigned long long>(bytes),
+                gm::printableText(in).c_str(), readerFor(in)->name().c_str(), static_cast<unsigned long long>(bytes),
                 doc.width, doc.height, doc.meshes.size(), patches, holes, pieces);
     for (size_t k = 0; k < doc.meshes.size(); ++k) {
         const gm::GradientMesh& m = doc.meshes[k];
@@ -440,6 +445,10 @@ int main(int argc, char** argv) {
     // Blocks up to 32 MB stay in the heap, which is trimmed only above 256 MB of free space.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
+    // Interrupted or terminated, the run removes its temporaries before it dies; over a file
+    // size limit (ulimit -f), a write fails with an error instead of killing the run.
+    gm::removeTemporariesOnSignals();
+    std::signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) {
         std::fputs(kMainHelp, stderr);
         return 2;
@@ -454,7 +463,8 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (!kHelp.count(command)) {
-        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n", command.c_str());
+        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n",
+                     gm::printableText(command).c_str());
         return 2;
     }
     for (int k = 2; k < argc; ++k) {
@@ -481,16 +491,16 @@ int main(int argc, char** argv) {
         if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
     } catch (const UsageError& e) {
         std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),
-                     oneLine(e.what()).c_str(), command.c_str());
+                     messageLine(e.what()).c_str(), command.c_str());
         return 2;
     } catch (const gm::Error& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), messageLine(e.what()).c_str());
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "gradmesh %s: out of memory\n", command.c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), oneLine(e.what()).c_str());
+        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), messageLine(e.what()).c_str());
         return 1;
     }
     return 2;

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +16,7 @@
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
 #include "converters/visible_colours.h"
+#include "formats/atomic_file.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
 #include "formats/svg.h"
@@ -147,26 +147,6 @@ std::string secondsJson(const StageSeconds& t) {
     return s.str();
 }
 
-void writeTextAtomically(const std::string& text, const std::string& path) {
-    const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        if (!f) throw Error("cannot create the report file", path);
-        f << text;
-        f.flush();
-        if (!f) {
-            std::filesystem::remove(tmp);
-            throw Error("cannot write the report file", path);
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp);
-        throw Error("cannot write the report file: " + ec.message(), path);
-    }
-}
-
 void requireWritableDir(const std::string& path) {
     const std::filesystem::path p(path);
     const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
@@ -265,6 +245,12 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
             throw Error("the report would overwrite the mask", reportPath);
     }
     requireWritableDir(out);
+    // Every output of the run is written to its temporary and renamed into place together at
+    // the end: a late failure (a report into /proc, a full disk) leaves an existing output as it
+    // was. Created now, so that an unwritable place fails before the conversion's work.
+    OutputBatch outputs;
+    outputs.reserve(out);
+    if (!reportPath.empty()) outputs.reserve(reportPath);
 
     // Read: sizes are checked by readImage before any pixel is allocated.
     auto t0 = Clock::now();
@@ -368,16 +354,22 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     t0 = Clock::now();
     // A compact .gmb holds the refitted colours (the file is compact's bytes: re-encoding a
     // quantised document gives the same file).
-    writer.write(compactOutput ? compact.doc : documentForWriter(doc, writer, wo, co.threads), out,
-                 wo);
+    size_t outBytes = 0;
+    {
+        const std::string bytes = writer.encode(
+            compactOutput ? compact.doc : documentForWriter(doc, writer, wo, co.threads), out, wo);
+        outBytes = bytes.size();
+        outputs.write(out, bytes);
+    }
     const double writeSeconds = since(t0);
 
-    if (reportPath.empty()) return;
+    if (reportPath.empty()) {
+        outputs.commit();
+        return;
+    }
     const double endToEnd = since(tStart);  // what follows only measures for the report
     const int compactLevel = wo.compact ? wo.compactLevel : 0;
     if (!haveCompact) compact = compactAt(compactLevel);
-    std::error_code ec;
-    const auto outBytes = std::filesystem::file_size(out, ec);
     std::ostringstream s;
     s << "{\n  \"input\": " << jsonString(in) << ",\n  \"output\": " << jsonString(out)
       << ",\n  \"width\": " << image.width << ",\n  \"height\": " << image.height
@@ -389,7 +381,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
       << num(writeSeconds) << ", \"end_to_end\": " << num(endToEnd) << "}"
       << ",\n  \"meshes\": " << doc.meshes.size() << ",\n  \"patches\": " << report.patches
       << ",\n  \"error\": " << errorJson(report.error) << ",\n  \"bytes\": {\"output\": "
-      << (ec ? 0 : outBytes) << ", \"gmb_lossless\": " << encodeGmb(doc, false).size()
+      << outBytes << ", \"gmb_lossless\": " << encodeGmb(doc, false).size()
       << ", \"gmb_compact\": " << compact.bytes.size() << ", \"svg\": ";
     // The exact SVG of a whole image or of a mesh of thousands of patches takes longer to
     // encode than the conversion (apple at 12,000 patches: 357 MB, ~14 s, ~2 GB): left out
@@ -461,12 +453,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         s << "]}";
     }
     s << "\n  ]\n}\n";
-    try {
-        writeTextAtomically(s.str(), reportPath);
-    } catch (...) {
-        std::filesystem::remove(out, ec);  // a failed command leaves no output behind
-        throw;
-    }
+    outputs.write(reportPath, s.str());
+    outputs.commit();
 }
 
 Document documentForWriter(const Document& doc, const MeshFormat& writer,

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "formats/raster.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"

@@ -1,6 +1,5 @@
 #include <string>
 
-#include "formats/atomic_file.h"
 #include "formats/eps.h"
 #include "formats/mesh_shading.h"
 #include "meshcore/error.h"
@@ -60,11 +59,11 @@ public:
     std::vector<std::string> extensions() const override { return {".eps", ".epsf"}; }
     bool canWrite() const override { return true; }
     bool sniff(const std::string& head) const override { return head.rfind("%!PS", 0) == 0; }
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         const std::string problem = validateDocument(doc);
         if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
-        writeFileAtomically(path, epsDocument(doc, options));
+        return epsDocument(doc, options);
     }
 };
 

@@ -328,7 +328,7 @@
 // 1.0 and 1.1 files: 84, the smallest MESH KNOT NODE sections).
 #include <algorithm>
 
-#include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "formats/gmb.h"
 #include "gmb_pvt.h"
 #include "meshcore/error.h"
@@ -355,24 +355,19 @@ public:
         return decodeGmb(bytes, options.limits, path);
     }
 
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
-        std::string bytes;
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         try {
-            if (options.legacy) {
-                Document pieces{doc.width, doc.height, {}};
-                for (const GradientMesh& m : doc.meshes)
-                    for (GradientMesh& piece : splitIntoLegacyMeshes(m))
-                        pieces.meshes.push_back(std::move(piece));
-                bytes = encodeGmb(pieces, options.compact, options.compactLevel);
-            } else {
-                bytes = encodeGmb(doc, options.compact, options.compactLevel);
-            }
+            if (!options.legacy) return encodeGmb(doc, options.compact, options.compactLevel);
+            Document pieces{doc.width, doc.height, {}};
+            for (const GradientMesh& m : doc.meshes)
+                for (GradientMesh& piece : splitIntoLegacyMeshes(m))
+                    pieces.meshes.push_back(std::move(piece));
+            return encodeGmb(pieces, options.compact, options.compactLevel);
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error(e.reason(), path, e.where());
         }
-        writeFileAtomically(path, bytes);
     }
 };
 

@@ -2,7 +2,6 @@
 #include <string>
 #include <vector>
 
-#include "formats/atomic_file.h"
 #include "formats/mesh_shading.h"
 #include "formats/pdf.h"
 #include "meshcore/error.h"
@@ -87,11 +86,11 @@ public:
     std::vector<std::string> extensions() const override { return {".pdf"}; }
     bool canWrite() const override { return true; }
     bool sniff(const std::string& head) const override { return head.rfind("%PDF-", 0) == 0; }
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         const std::string problem = validateDocument(doc);
         if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
-        writeFileAtomically(path, pdfDocument(doc, options));
+        return pdfDocument(doc, options);
     }
 };
 

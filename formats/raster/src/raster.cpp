@@ -1,5 +1,6 @@
 #include "formats/raster.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cmath>
 
 #include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "meshcore/error.h"
 #include "meshcore/mesh_lines.h"
 #include "meshcore/render.h"
@@ -48,6 +50,7 @@ bool linearExtension(const std::string& path) {
 }  // namespace
 
 RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
+    requireRegularFile(path);  // OpenImageIO would block on a FIFO and read a device without end
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha as stored
     auto in = OIIO::ImageInput::open(path, &config);
@@ -111,14 +114,18 @@ RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
     return img;
 }
 
-void writeImage(const RgbaImage& image, const std::string& path) {
+std::string encodeImage(const RgbaImage& image, const std::string& path) {
     const std::string ext = lowerExtension(path);
     const bool noAlpha = ext == ".jpg" || ext == ".jpeg";
     const bool linear = linearExtension(path);
     const int nch = noAlpha ? 3 : 4;
-    AtomicOutput out(path);
-    auto file = OIIO::ImageOutput::create(out.tempPath());
+    auto file = OIIO::ImageOutput::create(path);
     if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
+    // Encoded in memory: the file itself is written by our own checked I/O (atomic_file.h).
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput memory(encoded);
+    if (!file->supports("ioproxy") || !file->set_ioproxy(&memory))
+        throw Error("the image writer cannot encode in memory", path);
     OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
     if (linear) type = OIIO::TypeDesc::HALF;
     if (ext == ".tif" || ext == ".tiff") type = OIIO::TypeDesc::UINT16;
@@ -139,10 +146,14 @@ void writeImage(const RgbaImage& image, const std::string& path) {
         }
         if (!noAlpha) data[p * nch + 3] = std::clamp(s[3], 0.f, 1.f);
     }
-    if (!file->open(out.tempPath(), spec)) throw Error("cannot write image: " + file->geterror(), path);
+    if (!file->open(path, spec)) throw Error("cannot write image: " + file->geterror(), path);
     if (!file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
         throw Error("cannot write image: " + file->geterror(), path);
-    out.commit();
+    return std::string(encoded.begin(), encoded.end());
+}
+
+void writeImage(const RgbaImage& image, const std::string& path) {
+    writeFileAtomically(path, encodeImage(image, path));
 }
 
 void compositeOver(RgbaImage& image, const std::array<float, 4>& bg) {
@@ -166,14 +177,14 @@ public:
         return {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr"};
     }
     bool canWrite() const override { return true; }
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         RenderOptions ro;
         ro.scale = options.rasterScale;
         RgbaImage img = renderDocument(doc, ro).image;
         compositeOver(img, options.background);
         if (options.meshLines[3] > 0) drawMeshLines(img, doc, ro.scale, options.meshLines);
-        writeImage(img, path);
+        return encodeImage(img, path);
     }
 };
 }  // namespace

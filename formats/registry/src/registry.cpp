@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
 
+#include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "meshcore/error.h"
 
 namespace gm {
@@ -12,8 +13,14 @@ Document MeshFormat::read(const std::string& path, const ReadOptions&) const {
     throw Error("the " + name() + " format cannot be read", path);
 }
 
-void MeshFormat::write(const Document&, const std::string& path, const WriteOptions&) const {
+std::string MeshFormat::encode(const Document&, const std::string& path,
+                               const WriteOptions&) const {
     throw Error("the " + name() + " format cannot be written", path);
+}
+
+void MeshFormat::write(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const {
+    writeFileAtomically(path, encode(doc, path, options));
 }
 
 std::string lowerExtension(const std::string& path) {
@@ -47,15 +54,12 @@ const MeshFormat* FormatRegistry::forPath(const std::string& path) const {
 }
 
 const MeshFormat* FormatRegistry::forReading(const std::string& path) const {
-    std::ifstream in(path, std::ios::binary);
-    std::string head(64, '\0');
-    if (in) {
-        in.read(&head[0], static_cast<std::streamsize>(head.size()));
-        head.resize(static_cast<size_t>(in.gcount()));
-        // A file whose content says what it is wins over a misleading extension.
+    // Only a regular file is read: a FIFO or a device gives "" and is refused by its reader.
+    const std::string head = readFileHead(path, 64);
+    // A file whose content says what it is wins over a misleading extension.
+    if (!head.empty())
         for (const auto& f : formats_)
             if (f->canRead() && f->sniff(head)) return f.get();
-    }
     return forPath(path);
 }
 

@@ -2,7 +2,7 @@
 
 #include <cctype>
 
-#include "formats/atomic_file.h"
+#include "formats/input_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
 
@@ -89,16 +89,15 @@ public:
         return decodeSvg(bytes, options.limits, path);
     }
 
-    void write(const Document& doc, const std::string& path,
-               const WriteOptions& options) const override {
-        std::string bytes;
+    std::string encode(const Document& doc, const std::string& path,
+                       const WriteOptions& options) const override {
         try {
-            bytes = encodeSvg(doc, options);
+            const std::string svg = encodeSvg(doc, options);
+            return endsWith(path, ".svgz") ? gzipBytes(svg) : svg;
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error(e.reason(), path, e.where());
         }
-        writeFileAtomically(path, endsWith(path, ".svgz") ? gzipBytes(bytes) : bytes);
     }
 };
 

@@ -16,8 +16,11 @@ namespace gm {
 // encoded on read. Refuses images over maxPixels before allocating their pixels.
 RgbaImage readImage(const std::string& path, uint64_t maxPixels = uint64_t(64) << 20);
 
-// Writes by extension (.png .jpg .jpeg .tif .tiff .exr); linear formats (EXR) get decoded
-// values. Atomic: no partial file is left behind.
+// The file content for `path`, by its extension (.png .jpg .jpeg .tif .tiff .exr); linear
+// formats (EXR) get decoded values. Encoded in memory; nothing is written.
+std::string encodeImage(const RgbaImage& image, const std::string& path);
+
+// encodeImage, written atomically (atomic_file.h): no partial file is left behind.
 void writeImage(const RgbaImage& image, const std::string& path);
 
 // Composites straight-alpha `image` over an RGBA background (alpha 0 leaves it unchanged).

@@ -1,35 +1,44 @@
-// No partial output ever: write to a temporary file beside the target, rename on success.
+// No partial output, and no output replaced by a run that failed: every output of a run is
+// written whole to a temporary beside it (temp_file.h) and renamed into place only once all of
+// them are written.
 #pragma once
 
-#include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace gm {
 
-// A temporary path in the target's directory (keeping its extension, so libraries that pick a
-// format by extension still work). The destructor removes the temporary unless commit() ran.
-class AtomicOutput {
-public:
-    explicit AtomicOutput(const std::string& target);
-    ~AtomicOutput();
-    AtomicOutput(const AtomicOutput&) = delete;
-    AtomicOutput& operator=(const AtomicOutput&) = delete;
+class TempFile;
 
-    const std::string& tempPath() const { return temp_; }
-    const std::string& target() const { return target_; }
-    // Renames the temporary onto the target; throws gm::Error on failure.
+// The outputs of one run. reserve() each target as early as possible (a missing directory, a
+// read-only one or /proc fails before any work is done), write() each, then commit(): the
+// renames happen only after every temporary is completely written, synced and closed. Destroying
+// the batch without commit() (an exception) removes every temporary; existing files at the
+// targets are untouched.
+class OutputBatch {
+public:
+    OutputBatch();
+    ~OutputBatch();
+    OutputBatch(const OutputBatch&) = delete;
+    OutputBatch& operator=(const OutputBatch&) = delete;
+
+    // Creates the temporary for `target`; throws gm::Error naming it on failure.
+    void reserve(const std::string& target);
+    // Writes a reserved target's content (reserving it first if needed); throws gm::Error naming
+    // the target (disk full, I/O error).
+    void write(const std::string& target, const std::string& bytes);
+    // Moves every temporary into place, in the order reserved. Throws gm::Error when one is not
+    // written or a rename fails.
     void commit();
 
 private:
-    std::string target_, temp_;
-    bool committed_ = false;
+    TempFile* find(const std::string& target);
+    std::vector<std::unique_ptr<TempFile>> files_;
 };
 
 // Writes `bytes` to `path` atomically; throws gm::Error naming `path` on failure (missing
 // directory, no permission, disk full).
 void writeFileAtomically(const std::string& path, const std::string& bytes);
-
-// Reads a whole file, refusing files over maxBytes before allocating.
-std::string readWholeFile(const std::string& path, uint64_t maxBytes);
 
 }  // namespace gm

@@ -59,11 +59,15 @@ public:
     virtual bool canWrite() const { return false; }
     // A cheap check of the first bytes of a file (may be fewer than asked for).
     virtual bool sniff(const std::string& /*head*/) const { return false; }
-    // Throw gm::Error naming the file on any problem. A writer never leaves a partial file at
-    // `path` (write to a temporary name beside it, then rename).
+    // Throw gm::Error naming the file on any problem.
     virtual Document read(const std::string& path, const ReadOptions& options) const;
-    virtual void write(const Document& doc, const std::string& path,
-                       const WriteOptions& options) const;
+    // The whole file in memory. `path` is the file it is meant for: named in errors, and its
+    // extension picks the encoding of formats with several (raster).
+    virtual std::string encode(const Document& doc, const std::string& path,
+                               const WriteOptions& options) const;
+    // encode(), then written atomically (atomic_file.h): never a partial file at `path`, and an
+    // existing file there stays as it was when anything fails.
+    void write(const Document& doc, const std::string& path, const WriteOptions& options) const;
 };
 
 class FormatRegistry {
