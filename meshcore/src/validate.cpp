@@ -1,5 +1,6 @@
 #include "meshcore/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -13,6 +14,27 @@ bool finite3(Vec3 a) { return std::isfinite(a.r) && std::isfinite(a.g) && std::i
 bool finiteNode(const Node& n) {
     return finite2(n.pos) && finite2(n.posU) && finite2(n.posV) && finite3(n.col) &&
            finite3(n.colU) && finite3(n.colV);
+}
+
+// The longer of the knot spans either side of knot i.
+double spanAt(const std::vector<double>& k, int i) {
+    double span = 0;
+    if (i > 0) span = k[i] - k[i - 1];
+    if (i + 1 < static_cast<int>(k.size())) span = std::max(span, k[i + 1] - k[i]);
+    return span;
+}
+
+bool within(Vec2 p, double bound) { return std::fabs(p.x) <= bound && std::fabs(p.y) <= bound; }
+
+// A Bézier handle sits derivative × knot span / 3 from its node.
+bool boundedHandle(Vec2 derivative, double span) {
+    return within(derivative * (span / 3), 2 * kMaxCoordinate);
+}
+
+// Node (i, j): its position and handles within the coordinate limit.
+bool boundedNode(const GradientMesh& m, const Node& n, int i, int j) {
+    return within(n.pos, kMaxCoordinate) && boundedHandle(n.posU, spanAt(m.u, i)) &&
+           boundedHandle(n.posV, spanAt(m.v, j));
 }
 
 std::string checkKnots(const std::vector<double>& k, const char* name) {
@@ -38,6 +60,10 @@ std::string validateMesh(const GradientMesh& m) {
         if (!finiteNode(m.nodes[k]))
             return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) +
                    ") has a non-finite value";
+    for (size_t k = 0; k < m.nodes.size(); ++k)
+        if (!boundedNode(m, m.nodes[k], static_cast<int>(k % (C + 1)), static_cast<int>(k / (C + 1))))
+            return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) +
+                   ") lies beyond the coordinate limit of 1e7 pixels";
     for (size_t s = 0; s < m.slits.size(); ++s) {
         const Slit& sl = m.slits[s];
         const std::string name = "slit " + std::to_string(s);
@@ -50,11 +76,17 @@ std::string validateMesh(const GradientMesh& m) {
         if (sl.below.size() != static_cast<size_t>(sl.i1 - sl.i0 - 1))
             return name + " has " + std::to_string(sl.below.size()) + " split nodes, expected " +
                    std::to_string(sl.i1 - sl.i0 - 1);
-        for (const Node& n : sl.below)
-            if (!finiteNode(n)) return name + " has a non-finite split node";
+        for (size_t b = 0; b < sl.below.size(); ++b) {
+            if (!finiteNode(sl.below[b])) return name + " has a non-finite split node";
+            if (!boundedNode(m, sl.below[b], sl.i0 + 1 + static_cast<int>(b), sl.row))
+                return name + " has a split node beyond the coordinate limit of 1e7 pixels";
+        }
         if (!finite2(sl.left.posU) || !finite3(sl.left.colU) || !finite2(sl.right.posU) ||
             !finite3(sl.right.colU))
             return name + " has a non-finite end tangent";
+        if (!boundedHandle(sl.left.posU, spanAt(m.u, sl.i0)) ||
+            !boundedHandle(sl.right.posU, spanAt(m.u, sl.i1)))
+            return name + " has an end tangent beyond the coordinate limit of 1e7 pixels";
         for (size_t o = 0; o < s; ++o) {
             const Slit& t = m.slits[o];
             if (t.row == sl.row && !(t.i1 < sl.i0 || sl.i1 < t.i0))
@@ -67,6 +99,8 @@ std::string validateMesh(const GradientMesh& m) {
             return "tangent break " + std::to_string(k) + " names a patch corner outside the grid";
         if (!finite2(t.posU) || !finite3(t.colU))
             return "tangent break " + std::to_string(k) + " is not finite";
+        if (!boundedHandle(t.posU, spanAt(m.u, t.i + t.a)))
+            return "tangent break " + std::to_string(k) + " is beyond the coordinate limit of 1e7 pixels";
     }
     return {};
 }

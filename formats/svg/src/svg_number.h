@@ -4,17 +4,33 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 
 namespace gm {
 
+// Values from this magnitude on (and non-finite ones) are written in exponent form: their
+// 1e-4 steps would not fit a long long. Readers refuse such coordinates (SvgReadLimits,
+// validateMesh) long before; the formatter stays defined for every double all the same.
+constexpr double kSvgStepsLimit = 1e14;
+
+inline bool svgNumberInSteps(double v) { return std::fabs(v) < kSvgStepsLimit; }
+
 // The value a reader gets back from the text appendSvgNumber writes for v.
 inline long long svgNumberSteps(double v) { return std::llround(v * 1e4); }
-inline double svgPrintedValue(double v) { return static_cast<double>(svgNumberSteps(v)) / 1e4; }
+inline double svgPrintedValue(double v) {
+    return svgNumberInSteps(v) ? static_cast<double>(svgNumberSteps(v)) / 1e4 : v;
+}
 
 // "12.5", "-.25", "0", "3": no trailing zeros, no leading zero before the point when
 // `dropLeadingZero` (path and tensor data; attribute lengths keep it).
 inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = true) {
+    if (!svgNumberInSteps(v)) {  // includes NaN and infinities
+        char text[32];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        out += text;
+        return;
+    }
     long long q = svgNumberSteps(v);
     if (q == 0) {
         out += '0';

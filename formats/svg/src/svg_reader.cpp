@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -411,6 +412,20 @@ void transformGrid(SvgPatchGrid& g, const Affine& t) {
         for (Vec2& p : ts) p = t.apply(p);
 }
 
+// The largest |coordinate| of the grid's points; infinity when one is not a number.
+double largestCoordinate(const SvgPatchGrid& g) {
+    double largest = 0;
+    auto see = [&](Vec2 p) {
+        for (double v : {p.x, p.y}) largest = std::isnan(v) ? INFINITY : std::max(largest, std::fabs(v));
+    };
+    for (const Vec2& p : g.corner) see(p);
+    for (const auto& h : g.hEdge) see(h[0]), see(h[1]);
+    for (const auto& h : g.vEdge) see(h[0]), see(h[1]);
+    for (const auto& ts : g.tensor)
+        for (const Vec2& p : ts) see(p);
+    return largest;
+}
+
 }  // namespace
 
 Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
@@ -563,6 +578,14 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
         }
         t = compose(viewBoxShift, t);
         transformGrid(g, t);
+        // Each number is within maxCoordinate, but nested transforms multiply them.
+        if (const double reach = largestCoordinate(g); !(reach <= SvgReadLimits::maxCoordinate)) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.3g", reach);
+            rd.fail(std::string("mesh coordinates reach ") + text +
+                        " after its transforms, over the limit of 1e7",
+                    use.shape ? use.shape : use.paint);
+        }
         doc.meshes.push_back(meshFromPatchGrid(g, fileName, rd.describe(use.paint)));
     }
 

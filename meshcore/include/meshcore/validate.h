@@ -7,10 +7,16 @@
 
 namespace gm {
 
+// The largest |coordinate|, in canvas pixels, of a valid mesh's nodes; each Bézier handle a
+// node's derivative makes (derivative × knot span / 3) lies at most 2 × kMaxCoordinate from
+// its node. Writers' number formats stay exact within it, and no real canvas comes near it.
+constexpr double kMaxCoordinate = 1e7;
+
 // Returns an empty string when the mesh is valid, else a one-line description of the first
 // problem found: knots not strictly increasing, node count mismatch, slit outside the grid or
 // not interior, slits touching on a row, wrong number of split nodes, tangent break on a
-// patch that does not exist, a non-finite number anywhere.
+// patch that does not exist, a non-finite number anywhere, a position or handle beyond
+// kMaxCoordinate.
 std::string validateMesh(const GradientMesh& mesh);
 
 // As above for every mesh, plus a positive canvas size; the message names the mesh.
