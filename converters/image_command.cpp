@@ -271,7 +271,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     t0 = Clock::now();
     ObjectMask mask;
     try {
-        if (!segment) mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+        if (!segment)
+            mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath, co.threads);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw nameFile(e);
