@@ -60,10 +60,6 @@ std::string validateMesh(const GradientMesh& m) {
         if (!finiteNode(m.nodes[k]))
             return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) +
                    ") has a non-finite value";
-    for (size_t k = 0; k < m.nodes.size(); ++k)
-        if (!boundedNode(m, m.nodes[k], static_cast<int>(k % (C + 1)), static_cast<int>(k / (C + 1))))
-            return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) +
-                   ") lies beyond the coordinate limit of 1e7 pixels";
     for (size_t s = 0; s < m.slits.size(); ++s) {
         const Slit& sl = m.slits[s];
         const std::string name = "slit " + std::to_string(s);
@@ -76,17 +72,11 @@ std::string validateMesh(const GradientMesh& m) {
         if (sl.below.size() != static_cast<size_t>(sl.i1 - sl.i0 - 1))
             return name + " has " + std::to_string(sl.below.size()) + " split nodes, expected " +
                    std::to_string(sl.i1 - sl.i0 - 1);
-        for (size_t b = 0; b < sl.below.size(); ++b) {
-            if (!finiteNode(sl.below[b])) return name + " has a non-finite split node";
-            if (!boundedNode(m, sl.below[b], sl.i0 + 1 + static_cast<int>(b), sl.row))
-                return name + " has a split node beyond the coordinate limit of 1e7 pixels";
-        }
+        for (const Node& n : sl.below)
+            if (!finiteNode(n)) return name + " has a non-finite split node";
         if (!finite2(sl.left.posU) || !finite3(sl.left.colU) || !finite2(sl.right.posU) ||
             !finite3(sl.right.colU))
             return name + " has a non-finite end tangent";
-        if (!boundedHandle(sl.left.posU, spanAt(m.u, sl.i0)) ||
-            !boundedHandle(sl.right.posU, spanAt(m.u, sl.i1)))
-            return name + " has an end tangent beyond the coordinate limit of 1e7 pixels";
         for (size_t o = 0; o < s; ++o) {
             const Slit& t = m.slits[o];
             if (t.row == sl.row && !(t.i1 < sl.i0 || sl.i1 < t.i0))
@@ -99,9 +89,37 @@ std::string validateMesh(const GradientMesh& m) {
             return "tangent break " + std::to_string(k) + " names a patch corner outside the grid";
         if (!finite2(t.posU) || !finite3(t.colU))
             return "tangent break " + std::to_string(k) + " is not finite";
-        if (!boundedHandle(t.posU, spanAt(m.u, t.i + t.a)))
-            return "tangent break " + std::to_string(k) + " is beyond the coordinate limit of 1e7 pixels";
     }
+    return {};
+}
+
+std::string coordinateProblem(const GradientMesh& m) {
+    if (!validateMesh(m).empty()) return {};  // its indices cannot be trusted
+    const int C = m.columns();
+    const std::string beyond = " lies beyond the coordinate limit of 1e7 pixels";
+    for (size_t k = 0; k < m.nodes.size(); ++k)
+        if (!boundedNode(m, m.nodes[k], static_cast<int>(k % (C + 1)), static_cast<int>(k / (C + 1))))
+            return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) + ")" +
+                   beyond;
+    for (size_t s = 0; s < m.slits.size(); ++s) {
+        const Slit& sl = m.slits[s];
+        for (size_t b = 0; b < sl.below.size(); ++b)
+            if (!boundedNode(m, sl.below[b], sl.i0 + 1 + static_cast<int>(b), sl.row))
+                return "a split node of slit " + std::to_string(s) + beyond;
+        if (!boundedHandle(sl.left.posU, spanAt(m.u, sl.i0)) ||
+            !boundedHandle(sl.right.posU, spanAt(m.u, sl.i1)))
+            return "an end tangent of slit " + std::to_string(s) + beyond;
+    }
+    for (size_t k = 0; k < m.tangents.size(); ++k)
+        if (!boundedHandle(m.tangents[k].posU, spanAt(m.u, m.tangents[k].i + m.tangents[k].a)))
+            return "tangent break " + std::to_string(k) + beyond;
+    return {};
+}
+
+std::string coordinateProblem(const Document& doc) {
+    for (size_t k = 0; k < doc.meshes.size(); ++k)
+        if (auto e = coordinateProblem(doc.meshes[k]); !e.empty())
+            return "mesh " + std::to_string(k) + ": " + e;
     return {};
 }
 

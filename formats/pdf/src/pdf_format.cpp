@@ -91,6 +91,8 @@ public:
                const WriteOptions& options) const override {
         const std::string problem = validateDocument(doc);
         if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
+        if (const std::string e = coordinateProblem(doc); !e.empty())
+            throw Error("cannot write: " + e, path);
         writeFileAtomically(path, pdfDocument(doc, options));
     }
 };

@@ -3,6 +3,7 @@
 #include "formats/atomic_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
+#include "meshcore/validate.h"
 
 namespace gm {
 
@@ -33,6 +34,8 @@ public:
 
     void write(const Document& doc, const std::string& path,
                const WriteOptions& options) const override {
+        if (const std::string e = coordinateProblem(doc); !e.empty())
+            throw Error("cannot write: " + e, path);
         std::string bytes;
         try {
             bytes = encodeSvg(doc, options);
