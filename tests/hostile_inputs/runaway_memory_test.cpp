@@ -1,4 +1,5 @@
-// Work bounded on large images: GrabCut on a downscaled copy.
+// Work bounded by the image's real content and by a memory budget checked before the large
+// allocations: a JPEG header claiming 8000x8000, GrabCut on a large image.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -6,16 +7,61 @@
 #include <string>
 
 #include "converters/foreground.h"
+#include "hostile_files.h"
 #include "meshcore/image.h"
 #include "support/cli_run.h"
 
 namespace {
+
+// The JPEG's SOF0 marker says the image is w×h (its scan data stays that of the small one).
+std::string claimSize(std::string jpeg, int w, int h) {
+    const size_t sof = jpeg.find("\xFF\xC0");
+    REQUIRE(sof != std::string::npos);
+    jpeg[sof + 5] = static_cast<char>(h >> 8);
+    jpeg[sof + 6] = static_cast<char>(h & 255);
+    jpeg[sof + 7] = static_cast<char>(w >> 8);
+    jpeg[sof + 8] = static_cast<char>(w & 255);
+    return jpeg;
+}
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
+
+TEST_CASE("a small JPEG claiming 8000x8000 is refused by the memory budget before decoding",
+          "[hostile][memory][cli]") {
+    const auto dir = gmtest::scratchDir("hostile_", "jpeg_claims_8000");
+    const auto small = dir / "small.jpg";
+    hostile::writeNoiseImage(small.string(), 64, 64);
+    const auto big = dir / "big.jpg";
+    hostile::writeBytes(big, claimSize(gmtest::slurp(small), 8000, 8000));
+    REQUIRE(std::filesystem::file_size(big) < 8000);
+    const auto t0 = std::chrono::steady_clock::now();
+    const gmtest::Run r =
+        gmtest::runGradmesh("convert " + gmtest::q(big) + " -o " + gmtest::q(dir / "out.gmb"), dir);
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("8000x8000 image is too large for the memory budget") != std::string::npos);
+    CHECK(r.err.find("raise with --max-memory") != std::string::npos);
+    CHECK(secondsSince(t0) < 10);
+    CHECK(!std::filesystem::exists(dir / "out.gmb"));
+}
+
+TEST_CASE("the conversion is checked against the memory budget of --max-memory", "[hostile][memory][cli]") {
+    const auto dir = gmtest::scratchDir("hostile_", "max_memory");
+    const std::string in = gmtest::quote(std::string(GRADMESH_SAMPLES) + "/fruits.jpg");
+    const auto out = dir / "out.gmb";
+    gmtest::Run r = gmtest::runGradmesh("convert " + in + " --max-memory 10M -o " + gmtest::q(out), dir);
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("512x480 image is too large for the memory budget (needs ~") != std::string::npos);
+    CHECK(r.err.find("limit 10.0 MiB; raise with --max-memory)") != std::string::npos);
+    r = gmtest::runGradmesh("convert " + in + " --max-memory 12X -o " + gmtest::q(out), dir);
+    CHECK(r.code == 2);  // a usage error
+    CHECK(r.err.find("--max-memory expects a size") != std::string::npos);
+}
 
 TEST_CASE("GrabCut on a large image works on a downscaled copy and refines the outline",
           "[hostile][memory][grabcut]") {

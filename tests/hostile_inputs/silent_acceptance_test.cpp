@@ -49,10 +49,14 @@ TEST_CASE("an image is read by its content: a GIF named .png is refused as a GIF
     CHECK(r.err.find("GIF") != std::string::npos);
 }
 
-TEST_CASE("the probe counts the pages of a multi-page TIFF", "[hostile][raster]") {
+TEST_CASE("a multi-page TIFF converts its first page with a warning", "[hostile][raster][cli]") {
     const auto dir = gmtest::scratchDir("hostile_", "tiff_pages");
     const auto tif = dir / "pages.tif";
     hostile::writeNoiseImage(tif.string(), 64, 48, 3);
     CHECK(gm::probeImage(tif.string()).pages == 3);
-    CHECK(gm::readImage(tif.string()).width == 64);
+    const gmtest::Run r = gmtest::runGradmesh(
+        "convert " + gmtest::q(tif) + " --segment --max-patches 4 -o " + gmtest::q(dir / "out.gmb"), dir);
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("has 3 pages; only the first is converted") != std::string::npos);
 }

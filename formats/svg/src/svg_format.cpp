@@ -32,8 +32,15 @@ public:
         return decodeSvg(readWholeFile(path, limit), options.limits, path);
     }
 
+    // A meshpatch of the editable mode takes ~80 bytes (two stops with a path and a colour);
+    // exact colours split patches into more.
+    uint64_t leastBytes(const Document& doc, const WriteOptions&) const override {
+        return 60 * documentPatches(doc);
+    }
+
     void write(const Document& doc, const std::string& path,
                const WriteOptions& options) const override {
+        requireOutputWithinLimit(leastBytes(doc, options), options, path);
         if (const std::string e = coordinateProblem(doc); !e.empty())
             throw Error("cannot write: " + e, path);
         std::string bytes;

@@ -412,6 +412,18 @@ void transformGrid(SvgPatchGrid& g, const Affine& t) {
         for (Vec2& p : ts) p = t.apply(p);
 }
 
+// Patches of a meshgradient's rows: rows × patches of the first row (grid() checks the rest).
+uint64_t patchesOf(const XMLElement* array) {
+    uint64_t rows = 0, columns = 0;
+    for (const XMLElement* r = array->FirstChildElement(); r; r = r->NextSiblingElement()) {
+        if (!isNamed(r, "meshrow")) continue;
+        if (rows++ == 0)
+            for (const XMLElement* p = r->FirstChildElement(); p; p = p->NextSiblingElement())
+                columns += isNamed(p, "meshpatch");
+    }
+    return rows * columns;
+}
+
 // The largest |coordinate| of the grid's points; infinity when one is not a number.
 double largestCoordinate(const SvgPatchGrid& g) {
     double largest = 0;
@@ -516,6 +528,7 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     if (uses.size() > limits.maxMeshes)
         throw Error("SVG has " + std::to_string(uses.size()) + " meshes, over the limit", fileName);
 
+    uint64_t patches = 0;  // of the meshes so far: each use of a gradient is a copy of it
     for (const Use& use : uses) {
         // Attributes come from the first gradient of the href chain that has them; the rows
         // from the first that has rows.
@@ -546,6 +559,11 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
             if (array) break;
         }
         if (!array) rd.fail("meshgradient has no meshrow (nor one it links to)", use.paint);
+        patches += patchesOf(array);
+        if (patches > limits.maxPatches)
+            rd.fail(tooManyPatchesMessage(patches, limits.maxPatches) + ", " +
+                        std::to_string(uses.size()) + " shapes painting meshes",
+                    use.shape ? use.shape : use.paint);
         const XMLElement* unitsEl = attr("gradientUnits");
         if (!unitsEl || std::strcmp(unitsEl->Attribute("gradientUnits"), "userSpaceOnUse") != 0)
             rd.fail("meshgradient must have gradientUnits=\"userSpaceOnUse\" "
