@@ -91,7 +91,7 @@ TEST_CASE("positions beyond the coordinate limit are found", "[hostile]") {
     CHECK(validateDocument(wild).empty());  // valid: .gmb keeps any finite double
 }
 
-TEST_CASE("a .gmb at 1e21 px reads, and every other writer and the renderer refuse it",
+TEST_CASE("a .gmb at 1e21 px reads, every vector writer refuses it, the renderer clips it",
           "[hostile][gmb]") {
     const Document doc = shiftedDemo(1e21);
     const Document back = decodeGmb(encodeGmb(doc, false), ReadLimits{});
@@ -99,6 +99,11 @@ TEST_CASE("a .gmb at 1e21 px reads, and every other writer and the renderer refu
     const auto dir = gmtest::scratchDir("hostile_", "writers");
     for (const MeshFormat* f : FormatRegistry::builtin().all()) {
         if (!f->canWrite() || f->name() == "gmb") continue;
+        if (f->name() == "raster") {  // the renderer clips what lies off the canvas
+            const std::string png = (dir / "out.png").string();
+            CHECK_NOTHROW(f->write(doc, png, WriteOptions{}));
+            continue;
+        }
         const std::string path = (dir / ("out" + f->extensions()[0])).string();
         INFO(f->name());
         CHECK_THROWS_WITH(f->write(doc, path, WriteOptions{}), Catch::Contains("coordinate limit"));
@@ -124,11 +129,11 @@ TEST_CASE("convert of the nested-scale svg fails cleanly", "[hostile][cli]") {
     }
 }
 
-TEST_CASE("convert of a .gmb at 1e21 px to svg, eps, pdf and png fails cleanly", "[hostile][cli]") {
+TEST_CASE("convert of a .gmb at 1e21 px to svg, eps and pdf fails cleanly", "[hostile][cli]") {
     const auto dir = gmtest::scratchDir("hostile_", "gmb_1e21");
     const auto in = dir / "far.gmb";
     std::ofstream(in, std::ios::binary) << encodeGmb(shiftedDemo(1e21), false);
-    for (const char* ext : {".svg", ".eps", ".pdf", ".png"}) {
+    for (const char* ext : {".svg", ".eps", ".pdf"}) {
         const auto out = dir / (std::string("out") + ext);
         const gmtest::Run r = gmtest::runGradmesh("convert " + gmtest::q(in) + " -o " + gmtest::q(out), dir);
         INFO(ext << ": " << r.err);

@@ -7,8 +7,7 @@
 
 namespace gm {
 
-// The largest |coordinate|, in canvas pixels, of a node a writer of SVG, EPS or PDF or the
-// renderer takes; each Bézier handle a node's derivative makes (derivative × knot span / 3)
+// The largest |coordinate|, in canvas pixels, of a node the SVG, EPS and PDF writers take; each Bézier handle a node's derivative makes (derivative × knot span / 3)
 // lies at most 2 × kMaxCoordinate from its node. Their number formats stay exact within it,
 // and no real canvas comes near it. (.gmb keeps any finite double.)
 constexpr double kMaxCoordinate = 1e7;
