@@ -79,10 +79,6 @@ void requireMemoryBudget(double needed, uint64_t limit, const std::string& what,
                 file);
 }
 
-}  // namespace gm
-
-namespace gm {
-
 void requireRenderWithinLimits(int width, int height, double scale, const CommandLimits& limits,
                                const std::string& file) {
     const double pixels = std::ceil(width * scale) * std::ceil(height * scale);

@@ -10,8 +10,9 @@
 namespace gm {
 
 // Values from this magnitude on (and non-finite ones) are written in exponent form: their
-// 1e-4 steps would not fit a long long. Readers refuse such coordinates (SvgReadLimits,
-// validateMesh) long before; the formatter stays defined for every double all the same.
+// 1e-4 steps would not fit a long long. The reader and the writer refuse such coordinates
+// (SvgReadLimits::maxCoordinate, coordinateProblem) long before; the formatter stays defined
+// for every double all the same.
 constexpr double kSvgStepsLimit = 1e14;
 
 inline bool svgNumberInSteps(double v) { return std::fabs(v) < kSvgStepsLimit; }
