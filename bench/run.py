@@ -163,6 +163,8 @@ def main():
     if a.big > 0:
         rows.append(("apple %d² + mask (bicubic ×%g)" % (a.big, a.big / 512), G(big + ".png"),
                      G(big + "_mask.png")))
+        # The same photo without its mask: foreground extraction (GrabCut) on a large image.
+        rows.append(("apple %d² without mask (GrabCut)" % a.big, G(big + ".png"), None))
     rows += [
         ("disc (synthetic, 480², no holes)", G("disc.png"), None),
         ("amulet (disc with 21 holes)", G("amulet.png"), None),
@@ -181,6 +183,8 @@ def main():
         name = re.sub(r"[^A-Za-z0-9]+", "_", os.path.basename(image).rsplit(".", 1)[0])
         if mask and "horse" in image:
             name += "_masked"
+        if not mask and big in image:
+            name += "_grabcut"
         if extra:
             name += "_" + "_".join(re.sub(r"[^A-Za-z0-9]+", "", x) for x in extra)
         settings = SETTINGS + extra

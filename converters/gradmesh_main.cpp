@@ -19,6 +19,7 @@
 #include "formats/gmb.h"
 #include "formats/input_file.h"
 #include "formats/raster.h"
+#include "command_limits.h"
 #include "image_command.h"
 #include "formats/registry.h"
 #include "formats/svg.h"
@@ -73,7 +74,12 @@ const std::map<std::string, std::string> kHelp = {
      "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
      "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
      "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
-     "  --mesh-lines COLOR      raster outputs: draw every patch edge and node in COLOR\n"},
+     "  --mesh-lines COLOR      raster outputs: draw every patch edge and node in COLOR\n"
+     "  limits (docs/limits.md), checked before the work:\n"
+     "  --max-memory SIZE       memory budget, e.g. 4G (default), 512M\n"
+     "  --max-document-patches N  patches of all meshes read or converted (default 1048576)\n"
+     "  --max-output-bytes N    SVG/EPS/PDF outputs (default 1073741824)\n"
+     "  --max-canvas-pixels N   raster outputs (default 268435456 = 16384^2)\n"},
     {"render",
      "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR] [--mesh-lines COLOR]\n"
      "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline).\n"
@@ -81,7 +87,8 @@ const std::map<std::string, std::string> kHelp = {
      "  --scale S               output pixels per canvas pixel (default 1)\n"
      "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"
      "  --mesh-lines COLOR      draw every patch edge (grid lines, outline, slits) and node in\n"
-     "                          COLOR over the render, as a mesh tool shows them\n"},
+     "                          COLOR over the render, as a mesh tool shows them\n"
+     "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n"},
     {"info",
      "usage: gradmesh info IN\n"
      "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
@@ -221,9 +228,9 @@ const gm::MeshFormat* writerFor(const std::string& path) {
     return f;
 }
 
-gm::Document readDocument(const std::string& path) {
+gm::Document readDocument(const std::string& path, const gm::ReadOptions& options = {}) {
     requireInputFile(path);
-    gm::Document doc = readerFor(path)->read(path, gm::ReadOptions{});
+    gm::Document doc = readerFor(path)->read(path, options);
     if (std::string e = gm::validateDocument(doc); !e.empty()) throw Error("invalid mesh: " + e, path);
     return doc;
 }
@@ -270,6 +277,15 @@ int cmdConvert(const Args& a, bool renderOnly) {
         if (wo.meshLines[3] <= 0) throw UsageError("--mesh-lines needs a visible colour, got '" + it->second + "'");
     }
 
+    if (auto it = a.values.find("--max-output-bytes"); it != a.values.end())
+        wo.maxOutputBytes = static_cast<uint64_t>(parseNumber("--max-output-bytes", it->second, 1, 1e15));
+    gm::CommandLimits limits;
+    try {
+        limits = gm::commandLimits(a.values);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+
     const gm::MeshFormat* writer = writerFor(out);
     if (renderOnly && writer->name() != "raster")
         throw UsageError("render writes raster images (.png .jpg .tif .exr); use convert for '" +
@@ -302,11 +318,11 @@ int cmdConvert(const Args& a, bool renderOnly) {
         for (const std::string& o : gm::kImageFlagOptions)
             if (a.flags.count(o)) throw UsageError(o + " applies to raster inputs only");
     }
-    const gm::Document doc = readDocument(in);
-    const double pixels = doc.width * wo.rasterScale * doc.height * wo.rasterScale;
-    if (writer->name() == "raster" && pixels > 1.0e9)
-        throw Error("output would be " + std::to_string(static_cast<long long>(pixels)) +
-                        " pixels; lower --scale", out);
+    gm::ReadOptions ro;
+    ro.limits.maxPatches = limits.maxDocumentPatches;
+    const gm::Document doc = readDocument(in, ro);
+    if (writer->name() == "raster")
+        gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
     writer->write(gm::documentForWriter(doc, *writer, wo), out, wo);
     return 0;
 }
@@ -477,7 +493,8 @@ int main(int argc, char** argv) {
     try {
         if (command == "convert" || command == "render") {
             std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
-                                            "--scale", "--background", "--mesh-lines"};
+                                            "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
+            valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
             if (command == "convert") valued.insert("--compact-level");
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
             std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};

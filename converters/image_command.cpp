@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "converters/bicubic_model.h"
+#include "command_limits.h"
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
@@ -191,12 +192,39 @@ private:
     int saved_ = -1;
 };
 
-RgbaImage readQuietly(const std::string& path, uint64_t maxPixels) {
+void requireNonEmpty(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::file_size(path, ec) == 0 && !ec)
         throw Error("file is empty (0 bytes)", path);
+}
+
+RgbaImage readQuietly(const std::string& path, uint64_t maxPixels) {
+    requireNonEmpty(path);
     QuietStderr quiet;
     return readImage(path, maxPixels);
+}
+
+// The header of the input, checked against the limits before its pixels are decoded: the
+// conversion's memory grows with the pixels the header claims, however small the file.
+ImageProbe probeInput(const std::string& path, bool segment, uint64_t maxPixels,
+                      const CommandLimits& limits) {
+    requireNonEmpty(path);
+    ImageProbe probe;
+    {
+        QuietStderr quiet;
+        probe = probeImage(path);
+    }
+    const double pixels = static_cast<double>(probe.width) * probe.height;
+    if (pixels <= static_cast<double>(maxPixels))  // else readImage says it is over --max-pixels
+        requireMemoryBudget(pixels * (segment ? kSegmentBytesPerPixel : kObjectBytesPerPixel),
+                            limits.maxMemory,
+                            "a " + std::to_string(probe.width) + "x" + std::to_string(probe.height) +
+                                " image" + (segment ? " (--segment)" : ""),
+                            path);
+    if (probe.pages > 1)
+        std::fprintf(stderr, "gradmesh convert: warning: %s has %d pages; only the first is converted\n",
+                     path.c_str(), probe.pages);
+    return probe;
 }
 
 }  // namespace
@@ -251,9 +279,17 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     OutputBatch outputs;
     outputs.reserve(out);
     if (!reportPath.empty()) outputs.reserve(reportPath);
+    const CommandLimits limits = commandLimits(values);
+    if (so.totalPatches > 0 && static_cast<uint64_t>(so.totalPatches) > limits.maxDocumentPatches)
+        throw std::invalid_argument("--total-patches " + std::to_string(so.totalPatches) +
+                                    " is over --max-document-patches " +
+                                    std::to_string(limits.maxDocumentPatches));
 
-    // Read: sizes are checked by readImage before any pixel is allocated.
+    // Read: sizes are checked against the limits before any pixel is allocated.
     auto t0 = Clock::now();
+    const ImageProbe probe = probeInput(in, segment, maxPixels, limits);
+    if (writer.name() == "raster")
+        requireRenderWithinLimits(probe.width, probe.height, writeOptions.rasterScale, limits, out);
     const RgbaImage image = readQuietly(in, maxPixels);
     RgbaImage maskImage;
     if (!maskPath.empty()) maskImage = readQuietly(maskPath, maxPixels);
@@ -267,7 +303,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     t0 = Clock::now();
     ObjectMask mask;
     try {
-        if (!segment) mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath);
+        if (!segment)
+            mask = objectMask(image, maskPath.empty() ? nullptr : &maskImage, in, maskPath, co.threads);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw nameFile(e);
@@ -288,6 +325,11 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         if (!e.file().empty()) throw;
         throw nameFile(e);
     }
+    if (const uint64_t patches = documentPatches(doc); patches > limits.maxDocumentPatches)
+        throw Error("the conversion made " + std::to_string(patches) +
+                        " patches, over the limit of " + std::to_string(limits.maxDocumentPatches) +
+                        " (raise it with --max-document-patches, or lower --max-patches)",
+                    in);
 
     // Compact .gmb figures are measured over the pixels "error" is (the object's, or all of
     // them with --segment), on the decoded file's re-render: its size is weighed against its own

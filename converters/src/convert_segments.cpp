@@ -6,12 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <new>
 #include <thread>
 
 #include "converters/colours.h"
 #include "converters/neck.h"
 #include "converters/regions.h"
 #include "meshcore/error.h"
+#include "meshcore/parallel_for.h"
 #include "meshcore/render.h"
 #include "meshcore/validate.h"
 
@@ -101,6 +103,8 @@ RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
         out.how = 1;
     } catch (const Error& e) {
         out.fallback = e.reason();
+    } catch (const std::bad_alloc&) {
+        throw;  // out of memory ends the command, not just this attempt
     } catch (const std::exception& e) {
         out.fallback = e.what();
     }
@@ -123,6 +127,8 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
             out.how = 2;
             why = "holes filled (" + why + ")";
             return out;
+        } catch (const std::bad_alloc&) {
+            throw;  // out of memory ends the command, not just this attempt
         } catch (const std::exception& e) {
             why += "; with holes filled: " + std::string(e.what());
         }
@@ -155,6 +161,8 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
               std::to_string(own.pixelCount - rs.front().pixelCount) + " px) as " +
               std::to_string(out.meshes.size() - 1) + " meshes of their own: " + why;
         return out;
+    } catch (const std::bad_alloc&) {
+        throw;  // out of memory ends the command, not just this attempt
     } catch (const std::exception& e) {
         why += "; without parts thinner than " + std::to_string(2 * radius + 1) +
                " px: " + std::string(e.what());
@@ -453,23 +461,17 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     auto convertJobs = [&](const std::vector<std::pair<size_t, int>>& jobs,
                            std::vector<RegionOutcome>& outcomes) {
         outcomes.resize(jobs.size());
-        std::atomic<size_t> next{0};
-        auto work = [&]() {
-            for (size_t w; (w = next.fetch_add(1)) < jobs.size();) {
-                ConvertOptions co = coAll;
-                co.maxPatches = jobs[w].second;
-                const size_t k = jobs[w].first;
-                outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0,
-                                                   options.totalPatches > 0 ? &caches[k] : nullptr);
-                if (options.totalPatches > 0 && outcomes[w].how != 0)
-                    outcomes[w].spill = spillSse(outcomes[w].meshes, image, drawnAt, static_cast<int>(k));
-            }
+        auto convertJob = [&](int job, int) {
+            const size_t w = static_cast<size_t>(job);
+            ConvertOptions co = coAll;
+            co.maxPatches = jobs[w].second;
+            const size_t k = jobs[w].first;
+            outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0,
+                                               options.totalPatches > 0 ? &caches[k] : nullptr);
+            if (options.totalPatches > 0 && outcomes[w].how != 0)
+                outcomes[w].spill = spillSse(outcomes[w].meshes, image, drawnAt, static_cast<int>(k));
         };
-        std::vector<std::thread> pool;
-        for (int w = 1; w < std::min<int>(workers, static_cast<int>(jobs.size())); ++w)
-            pool.emplace_back(work);
-        work();
-        for (auto& t : pool) t.join();
+        parallelFor(static_cast<int>(jobs.size()), workers, convertJob);
     };
     t0 = Clock::now();
     std::vector<RegionOutcome> outcomes;

@@ -1,9 +1,6 @@
 #include "converters/foreground.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
-#include <cmath>
 
 #include "meshcore/error.h"
 
@@ -18,32 +15,8 @@ const char* maskSourceName(MaskSource s) {
     return "?";
 }
 
-std::vector<uint8_t> grabCutForeground(const RgbaImage& image, int iterations) {
-    const int W = image.width, H = image.height;
-    if (W < 8 || H < 8) throw Error("image too small for foreground extraction (needs 8x8 or more)");
-    cv::Mat bgr(H, W, CV_8UC3);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const float* p = image.at(x, y);
-            auto& d = bgr.at<cv::Vec3b>(y, x);
-            for (int c = 0; c < 3; ++c)
-                d[2 - c] = static_cast<uint8_t>(std::lround(std::clamp(p[c], 0.f, 1.f) * 255));
-        }
-    const int mx = std::max(1, W / 20), my = std::max(1, H / 20);
-    cv::Rect rect(mx, my, W - 2 * mx, H - 2 * my);
-    cv::Mat labels, bgModel, fgModel;
-    cv::grabCut(bgr, labels, rect, bgModel, fgModel, iterations, cv::GC_INIT_WITH_RECT);
-    std::vector<uint8_t> mask(static_cast<size_t>(W) * H);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const uint8_t l = labels.at<uint8_t>(y, x);
-            mask[static_cast<size_t>(y) * W + x] = (l == cv::GC_FGD || l == cv::GC_PR_FGD) ? 1 : 0;
-        }
-    return mask;
-}
-
 ObjectMask objectMask(const RgbaImage& image, const RgbaImage* maskImage,
-                      const std::string& imagePath, const std::string& maskPath) {
+                      const std::string& imagePath, const std::string& maskPath, int threads) {
     ObjectMask m;
     m.width = image.width;
     m.height = image.height;
@@ -78,7 +51,7 @@ ObjectMask objectMask(const RgbaImage& image, const RgbaImage* maskImage,
         return m;
     }
     m.source = MaskSource::GrabCut;
-    m.mask = grabCutForeground(image);
+    m.mask = grabCutForeground(image, 5, threads);
     if (std::find(m.mask.begin(), m.mask.end(), 1) == m.mask.end())
         throw Error("foreground extraction found no object (give one with --mask)", imagePath);
     return m;

@@ -4,17 +4,16 @@
 #include <opencv2/ximgproc/segmentation.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <queue>
-#include <thread>
 #include <unordered_map>
 #include <utility>
 
 #include "meshcore/error.h"
+#include "meshcore/parallel_for.h"
 
 namespace gm {
 
@@ -266,20 +265,12 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
             }
         }
     };
-    const int hw = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-    const int workers = std::max(1, std::min(threads > 0 ? threads : hw, count));
+    const int workers = std::max(1, std::min(threadsToUse(threads), count));
     const int batch = 4 * workers;
     for (int first = 0; first < count; first += batch) {
         const int n = std::min(batch, count - first);
         std::vector<Cut> cuts(static_cast<size_t>(n));
-        std::atomic<int> next{0};
-        auto work = [&]() {
-            for (int k; (k = next.fetch_add(1)) < n;) cuts[static_cast<size_t>(k)] = cutSegment(first + k);
-        };
-        std::vector<std::thread> pool;
-        for (int w = 1; w < std::min(workers, n); ++w) pool.emplace_back(work);
-        work();
-        for (std::thread& t : pool) t.join();
+        parallelFor(n, workers, [&](int k, int) { cuts[static_cast<size_t>(k)] = cutSegment(first + k); });
         for (int k = 0; k < n; ++k) merge(first + k, cuts[static_cast<size_t>(k)]);
     }
     long changed = 0;

@@ -1,12 +1,11 @@
 #include "converters/visible_colours.h"
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
 
 #include "converters/convert_image.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
+#include "meshcore/parallel_for.h"
 #include "meshcore/render.h"
 
 namespace gm {
@@ -24,10 +23,7 @@ void checkCanvas(const Document& doc, size_t maskSize, const RgbaImage* image) {
                     "x" + std::to_string(doc.height));
 }
 
-int threadCount(int threads) {
-    return threads > 0 ? threads
-                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
+int threadCount(int threads) { return threadsToUse(threads); }
 
 FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<uint8_t>& mask,
                  int threads) {
@@ -58,32 +54,26 @@ Document refitWithSamples(const Document& doc, const RgbaImage& image,
         if (mask[p] && samples[p].mesh >= 0) ++pixels[static_cast<size_t>(samples[p].mesh)];
 
     // Meshes in parallel, each solve on one thread: a whole image has a few to a few dozen.
-    std::atomic<size_t> next{0};
-    auto work = [&]() {
-        for (size_t k = next++; k < doc.meshes.size(); k = next++) {
-            if (pixels[k] < 4) continue;
-            Region region;
-            region.width = doc.width;
-            region.height = doc.height;
-            region.mask.assign(mask.size(), 0);
-            for (size_t p = 0; p < samples.size(); ++p)
-                if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
-            region.pixelCount = pixels[k];
-            ColorOptions co;
-            // A Bicubic mesh stays Bicubic: its colours are all there is to refit.
-            const bool bicubic = doc.meshes[k].colorModel == ColorModel::Bicubic;
-            co.mode = bicubic ? ColorMode::FitBicubic : mode;
-            co.threads = 1;
-            co.warmStart = true;  // the colours given are near the refit's
-            out.meshes[k] =
-                fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
-        }
+    auto refit = [&](int mesh, int) {
+        const size_t k = static_cast<size_t>(mesh);
+        if (pixels[k] < 4) return;
+        Region region;
+        region.width = doc.width;
+        region.height = doc.height;
+        region.mask.assign(mask.size(), 0);
+        for (size_t p = 0; p < samples.size(); ++p)
+            if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
+        region.pixelCount = pixels[k];
+        ColorOptions co;
+        // A Bicubic mesh stays Bicubic: its colours are all there is to refit.
+        const bool bicubic = doc.meshes[k].colorModel == ColorModel::Bicubic;
+        co.mode = bicubic ? ColorMode::FitBicubic : mode;
+        co.threads = 1;
+        co.warmStart = true;  // the colours given are near the refit's
+        out.meshes[k] =
+            fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
     };
-    const int n = std::min(threadCount(threads), static_cast<int>(doc.meshes.size()));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < n; ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
+    parallelFor(static_cast<int>(doc.meshes.size()), threadCount(threads), refit);
     return out;
 }
 

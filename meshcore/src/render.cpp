@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "meshcore/error.h"
+#include "meshcore/parallel_for.h"
 #include "render_internal.h"
 
 namespace gm {
@@ -25,37 +26,6 @@ namespace gm {
 using namespace render_detail;
 
 namespace {
-
-// Runs f(k, worker) for k in 0..count-1 on up to `threads` threads (this one included; worker
-// numbers them from 0); rethrows the first exception a worker raised.
-template <class F>
-void parallelFor(int count, int threads, const F& f) {
-    if (threads <= 1 || count <= 1) {
-        for (int k = 0; k < count; ++k) f(k, 0);
-        return;
-    }
-    std::atomic<int> next{0};
-    std::exception_ptr failure;
-    std::atomic<bool> failed{false};
-    auto work = [&](int worker) {
-        for (;;) {
-            const int k = next.fetch_add(1);
-            if (k >= count || failed.load()) return;
-            try {
-                f(k, worker);
-            } catch (...) {
-                if (!failed.exchange(true)) failure = std::current_exception();
-            }
-        }
-    };
-    std::vector<std::thread> pool;
-    const int n = std::min(threads, count);
-    pool.reserve(static_cast<size_t>(n) - 1);
-    for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
-    work(0);
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-}
 
 void checkStructure(const GradientMesh& mesh, size_t index) {
     const int C = mesh.columns(), R = mesh.rows();

@@ -1,5 +1,6 @@
 #include "meshcore/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -13,6 +14,27 @@ bool finite3(Vec3 a) { return std::isfinite(a.r) && std::isfinite(a.g) && std::i
 bool finiteNode(const Node& n) {
     return finite2(n.pos) && finite2(n.posU) && finite2(n.posV) && finite3(n.col) &&
            finite3(n.colU) && finite3(n.colV);
+}
+
+// The longer of the knot spans either side of knot i.
+double spanAt(const std::vector<double>& k, int i) {
+    double span = 0;
+    if (i > 0) span = k[i] - k[i - 1];
+    if (i + 1 < static_cast<int>(k.size())) span = std::max(span, k[i + 1] - k[i]);
+    return span;
+}
+
+bool within(Vec2 p, double bound) { return std::fabs(p.x) <= bound && std::fabs(p.y) <= bound; }
+
+// A Bézier handle sits derivative × knot span / 3 from its node.
+bool boundedHandle(Vec2 derivative, double span) {
+    return within(derivative * (span / 3), 2 * kMaxCoordinate);
+}
+
+// Node (i, j): its position and handles within the coordinate limit.
+bool boundedNode(const GradientMesh& m, const Node& n, int i, int j) {
+    return within(n.pos, kMaxCoordinate) && boundedHandle(n.posU, spanAt(m.u, i)) &&
+           boundedHandle(n.posV, spanAt(m.v, j));
 }
 
 std::string checkKnots(const std::vector<double>& k, const char* name) {
@@ -68,6 +90,36 @@ std::string validateMesh(const GradientMesh& m) {
         if (!finite2(t.posU) || !finite3(t.colU))
             return "tangent break " + std::to_string(k) + " is not finite";
     }
+    return {};
+}
+
+std::string coordinateProblem(const GradientMesh& m) {
+    if (!validateMesh(m).empty()) return {};  // its indices cannot be trusted
+    const int C = m.columns();
+    const std::string beyond = " lies beyond the coordinate limit of 1e7 pixels";
+    for (size_t k = 0; k < m.nodes.size(); ++k)
+        if (!boundedNode(m, m.nodes[k], static_cast<int>(k % (C + 1)), static_cast<int>(k / (C + 1))))
+            return "node (" + std::to_string(k % (C + 1)) + "," + std::to_string(k / (C + 1)) + ")" +
+                   beyond;
+    for (size_t s = 0; s < m.slits.size(); ++s) {
+        const Slit& sl = m.slits[s];
+        for (size_t b = 0; b < sl.below.size(); ++b)
+            if (!boundedNode(m, sl.below[b], sl.i0 + 1 + static_cast<int>(b), sl.row))
+                return "a split node of slit " + std::to_string(s) + beyond;
+        if (!boundedHandle(sl.left.posU, spanAt(m.u, sl.i0)) ||
+            !boundedHandle(sl.right.posU, spanAt(m.u, sl.i1)))
+            return "an end tangent of slit " + std::to_string(s) + beyond;
+    }
+    for (size_t k = 0; k < m.tangents.size(); ++k)
+        if (!boundedHandle(m.tangents[k].posU, spanAt(m.u, m.tangents[k].i + m.tangents[k].a)))
+            return "tangent break " + std::to_string(k) + beyond;
+    return {};
+}
+
+std::string coordinateProblem(const Document& doc) {
+    for (size_t k = 0; k < doc.meshes.size(); ++k)
+        if (auto e = coordinateProblem(doc.meshes[k]); !e.empty())
+            return "mesh " + std::to_string(k) + ": " + e;
     return {};
 }
 

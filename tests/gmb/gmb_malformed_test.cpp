@@ -229,6 +229,7 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
     huge.maxSlitsPerMesh = uint64_t(1) << 40;
     huge.maxMeshes = uint64_t(1) << 40;
     huge.maxFileBytes = uint64_t(1) << 62;
+    huge.maxPatches = uint64_t(1) << 62;
     const std::string good = gmbtest::specEncode(gmbtest::goldenLossless());
     auto edit = [&](const std::string& tag, size_t at, uint64_t value, int width) {
         std::string s = good;
@@ -276,11 +277,17 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
     payload += std::string(6, '\0');  // weights mask, stream
     std::string huge4000 = gmbtest::fileHeader(1, 2) + gmbtest::section("DOCU", std::string("\x64\0\0\0\x64\0\0\0\x01\0\0\0", 12)) +
                            gmbtest::section("CMSH", payload) + gmbtest::section("END ", "");
-    // Under the default limits its values alone (8 bytes each once decoded) are over budget;
-    // with a budget raised past that, the stream's length refuses it.
-    CHECK_THAT(decodeError(huge4000), Contains("decoded data would exceed the limit of 1073741824 bytes") &&
+    // Under the default limits its 16 M patches are over the document's limit; past that, its
+    // values alone (8 bytes each once decoded) are over budget; with a budget raised past that,
+    // the stream's length refuses it.
+    CHECK_THAT(decodeError(huge4000), Contains("16000000 patches, over the limit of 1048576") &&
                                           Contains("CMSH (mesh 0)"));
-    gm::ReadLimits roomy;
+    gm::ReadLimits manyPatches;
+    manyPatches.maxPatches = uint64_t(1) << 30;
+    CHECK_THAT(decodeError(huge4000, manyPatches),
+               Contains("decoded data would exceed the limit of 1073741824 bytes") &&
+                   Contains("CMSH (mesh 0)"));
+    gm::ReadLimits roomy = manyPatches;
     roomy.maxFileBytes = uint64_t(4) << 30;
     CHECK_THAT(decodeError(huge4000, roomy), Contains("truncated: 8793 bytes needed for the range-coded nodes") &&
                                                  Contains("CMSH (mesh 0)"));
@@ -306,9 +313,12 @@ TEST_CASE("counts that would need terabytes are refused before allocating", "[ma
             gmbtest::fileHeader(1, 3) +
             gmbtest::section("DOCU", std::string("\x64\0\0\0\x64\0\0\0\x01\0\0\0", 12)) +
             gmbtest::section("CMS2", payload) + gmbtest::section("END ", "");
-        CHECK_THAT(decodeError(file), Contains("decoded data would exceed the limit of 1073741824 bytes") &&
+        CHECK_THAT(decodeError(file), Contains("16000000 patches, over the limit of 1048576") &&
                                           Contains("CMS2 (mesh 0)"));
-        gm::ReadLimits roomy;
+        CHECK_THAT(decodeError(file, manyPatches),
+                   Contains("decoded data would exceed the limit of 1073741824 bytes") &&
+                       Contains("CMS2 (mesh 0)"));
+        gm::ReadLimits roomy = manyPatches;
         roomy.maxFileBytes = uint64_t(4) << 30;
         CHECK_THAT(decodeError(file, roomy), Contains("bytes needed for the range-coded nodes") &&
                                                  Contains("CMS2 (mesh 0)"));

@@ -59,10 +59,18 @@ public:
     std::vector<std::string> extensions() const override { return {".eps", ".epsf"}; }
     bool canWrite() const override { return true; }
     bool sniff(const std::string& head) const override { return head.rfind("%!PS", 0) == 0; }
+    // A patch of the shading stream takes at least a flag, eight points (its edges shared
+    // with the previous patch) in 2-byte coordinates and two colours.
+    uint64_t leastBytes(const Document& doc, const WriteOptions&) const override {
+        return 32 * documentPatches(doc);
+    }
     std::string encode(const Document& doc, const std::string& path,
                        const WriteOptions& options) const override {
+        requireOutputWithinLimit(leastBytes(doc, options), options, path);
         const std::string problem = validateDocument(doc);
         if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
+        if (const std::string e = coordinateProblem(doc); !e.empty())
+            throw Error("cannot write: " + e, path);
         return epsDocument(doc, options);
     }
 };

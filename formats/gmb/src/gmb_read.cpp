@@ -146,7 +146,9 @@ private:
 
     MeshHeader readMeshHeader(ByteReader& r, const Section& s);
     // What is wrong with a mesh header's counts (limits, what its grid can hold), or "".
-    std::string countProblem(const MeshHeader& h) const;
+    // Checks a mesh header's counts against the limits, and adds its patches to the
+    // document's (ReadLimits::maxPatches); empty when all is well.
+    std::string countProblem(const MeshHeader& h);
     GradientMesh readSections(const MeshHeader& h);
     uint64_t openMeshRun(const Section& s, const char* tag, int minor, uint64_t meshesLeft,
                          Payload& p, int (&shared)[kFieldCount]);
@@ -184,6 +186,7 @@ private:
     }
     uint64_t decodedBytes_ = 0;  // sum of declared uncompressed sizes so far
     std::string meshName_;       // "mesh 3", for section names in messages
+    uint64_t documentPatches_ = 0;  // of the meshes whose headers were read
     // The current mesh when quantised: its knots, spans (encoding 2) and NODE values, per
     // component (`grid_.planes`).
     CodedGrid grid_;
@@ -354,7 +357,7 @@ double Decoder::component(ByteReader& r, const MeshHeader& h, int c, int64_t q, 
     return quantized(r, q, h.exponent[f]);
 }
 
-std::string Decoder::countProblem(const MeshHeader& h) const {
+std::string Decoder::countProblem(const MeshHeader& h) {
     const std::string grid = std::to_string(h.columns) + "x" + std::to_string(h.rows);
     if (h.columns == 0 || h.rows == 0) return "grid " + grid + " is empty";
     const uint64_t side = std::min<uint64_t>(limits_.maxGridSide, INT_MAX - 1);
@@ -372,6 +375,10 @@ std::string Decoder::countProblem(const MeshHeader& h) const {
     if (h.tangents > satMul(4, satMul(h.columns, h.rows)))
         return std::to_string(h.tangents) + " tangent breaks for only " +
                std::to_string(h.columns * h.rows) + " patches";
+    const uint64_t patches = satMul(h.columns, h.rows);
+    documentPatches_ = patches > UINT64_MAX - documentPatches_ ? UINT64_MAX : documentPatches_ + patches;
+    if (documentPatches_ > limits_.maxPatches)
+        return tooManyPatchesMessage(documentPatches_, limits_.maxPatches);
     return {};
 }
 

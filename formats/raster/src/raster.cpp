@@ -47,9 +47,22 @@ bool linearExtension(const std::string& path) {
     const std::string ext = lowerExtension(path);
     return ext == ".exr" || ext == ".hdr";
 }
-}  // namespace
 
-RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
+// The formats readImage takes, by OpenImageIO's name of the content, and how to say them.
+bool readableFormat(const std::string& format) {
+    return format == "png" || format == "jpeg" || format == "tiff" || format == "openexr";
+}
+constexpr const char* kReadableFormats = "PNG, JPEG, TIFF or OpenEXR";
+
+std::string upper(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    return s;
+}
+
+// Opens `path` by content (OpenImageIO tries every reader when the extension's refuses it)
+// and refuses formats other than readableFormat's.
+std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path) {
     requireRegularFile(path);  // OpenImageIO would block on a FIFO and read a device without end
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // keep PNG/TIFF alpha as stored
@@ -60,6 +73,36 @@ RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
         // OIIO prefixes some messages with the file name; keep one copy of it.
         throw Error("cannot read image: " + msg, path);
     }
+    const std::string format = in->format_name();
+    if (!readableFormat(format))
+        throw Error("the file holds a " + upper(format) + " image (whatever its name says); " +
+                        "images are read as " + kReadableFormats,
+                    path);
+    return in;
+}
+
+int countPages(OIIO::ImageInput& in) {
+    constexpr int kMaxCounted = 1000;
+    int pages = 1;
+    while (pages < kMaxCounted && in.seek_subimage(pages, 0)) ++pages;
+    in.seek_subimage(0, 0);
+    return pages;
+}
+}  // namespace
+
+ImageProbe probeImage(const std::string& path) {
+    auto in = openImage(path);
+    ImageProbe probe;
+    probe.width = in->spec().width;
+    probe.height = in->spec().height;
+    probe.channels = in->spec().nchannels;
+    probe.format = in->format_name();
+    probe.pages = countPages(*in);
+    return probe;
+}
+
+RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
+    auto in = openImage(path);
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
         throw Error("unsupported image dimensions " + std::to_string(spec.width) + "x" +
@@ -76,7 +119,9 @@ RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
     const int nch = spec.nchannels;
     if (nch < 1) throw Error("image has no channels", path);
     std::vector<float> raw(static_cast<size_t>(pixels) * nch);
-    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, raw.data())) {
+    // A damaged file may still fill the buffer (libjpeg pads a truncated JPEG with grey and
+    // only warns): the reader's error state says so.
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, raw.data()) || in->has_error()) {
         std::string msg = in->geterror();
         throw Error("cannot decode image: " + (msg.empty() ? std::string("read failed") : msg), path);
     }

@@ -5,6 +5,7 @@
 #include "formats/input_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
+#include "meshcore/validate.h"
 
 namespace gm {
 
@@ -89,8 +90,17 @@ public:
         return decodeSvg(bytes, options.limits, path);
     }
 
+    // A meshpatch of the bicubic mode takes ~130 bytes (two stops with a path and a colour);
+    // exact colours split patches into more.
+    uint64_t leastBytes(const Document& doc, const WriteOptions&) const override {
+        return 60 * documentPatches(doc);
+    }
+
     std::string encode(const Document& doc, const std::string& path,
                        const WriteOptions& options) const override {
+        requireOutputWithinLimit(leastBytes(doc, options), options, path);
+        if (const std::string e = coordinateProblem(doc); !e.empty())
+            throw Error("cannot write: " + e, path);
         try {
             const std::string svg = encodeSvg(doc, options);
             return endsWith(path, ".svgz") ? gzipBytes(svg) : svg;

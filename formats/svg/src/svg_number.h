@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 
 namespace gm {
@@ -14,18 +15,34 @@ constexpr int kSvgDecimalsCompact = 2;
 
 inline double svgStepsPerUnit(int decimals) { return decimals == 2 ? 1e2 : 1e4; }
 
+// Values from this magnitude on (and non-finite ones) are written in exponent form: their
+// 1e-4 steps would not fit a long long. The reader and the writer refuse such coordinates
+// (SvgReadLimits::maxCoordinate, coordinateProblem) long before; the formatter stays defined
+// for every double all the same.
+constexpr double kSvgStepsLimit = 1e14;
+
+inline bool svgNumberInSteps(double v) { return std::fabs(v) < kSvgStepsLimit; }
+
 // The value a reader gets back from the text appendSvgNumber writes for v.
 inline long long svgNumberSteps(double v, int decimals = kSvgDecimalsExact) {
     return std::llround(v * svgStepsPerUnit(decimals));
 }
 inline double svgPrintedValue(double v, int decimals = kSvgDecimalsExact) {
-    return static_cast<double>(svgNumberSteps(v, decimals)) / svgStepsPerUnit(decimals);
+    return svgNumberInSteps(v)
+               ? static_cast<double>(svgNumberSteps(v, decimals)) / svgStepsPerUnit(decimals)
+               : v;
 }
 
 // "12.5", "-.25", "0", "3": no trailing zeros, no leading zero before the point when
 // `dropLeadingZero` (path and tensor data; attribute lengths keep it).
 inline void appendSvgNumber(std::string& out, double v, bool dropLeadingZero = true,
                             int decimals = kSvgDecimalsExact) {
+    if (!svgNumberInSteps(v)) {  // includes NaN and infinities
+        char text[32];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        out += text;
+        return;
+    }
     long long q = svgNumberSteps(v, decimals);
     if (q == 0) {
         out += '0';

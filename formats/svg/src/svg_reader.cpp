@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -411,6 +412,32 @@ void transformGrid(SvgPatchGrid& g, const Affine& t) {
         for (Vec2& p : ts) p = t.apply(p);
 }
 
+// Patches of a meshgradient's rows: rows × patches of the first row (grid() checks the rest).
+uint64_t patchesOf(const XMLElement* array) {
+    uint64_t rows = 0, columns = 0;
+    for (const XMLElement* r = array->FirstChildElement(); r; r = r->NextSiblingElement()) {
+        if (!isNamed(r, "meshrow")) continue;
+        if (rows++ == 0)
+            for (const XMLElement* p = r->FirstChildElement(); p; p = p->NextSiblingElement())
+                columns += isNamed(p, "meshpatch");
+    }
+    return rows * columns;
+}
+
+// The largest |coordinate| of the grid's points; infinity when one is not a number.
+double largestCoordinate(const SvgPatchGrid& g) {
+    double largest = 0;
+    auto see = [&](Vec2 p) {
+        for (double v : {p.x, p.y}) largest = std::isnan(v) ? INFINITY : std::max(largest, std::fabs(v));
+    };
+    for (const Vec2& p : g.corner) see(p);
+    for (const auto& h : g.hEdge) see(h[0]), see(h[1]);
+    for (const auto& h : g.vEdge) see(h[0]), see(h[1]);
+    for (const auto& ts : g.tensor)
+        for (const Vec2& p : ts) see(p);
+    return largest;
+}
+
 }  // namespace
 
 Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
@@ -501,6 +528,7 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     if (uses.size() > limits.maxMeshes)
         throw Error("SVG has " + std::to_string(uses.size()) + " meshes, over the limit", fileName);
 
+    uint64_t patches = 0;  // of the meshes so far: each use of a gradient is a copy of it
     for (const Use& use : uses) {
         // Attributes come from the first gradient of the href chain that has them; the rows
         // from the first that has rows.
@@ -531,6 +559,11 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
             if (array) break;
         }
         if (!array) rd.fail("meshgradient has no meshrow (nor one it links to)", use.paint);
+        patches += patchesOf(array);
+        if (patches > limits.maxPatches)
+            rd.fail(tooManyPatchesMessage(patches, limits.maxPatches) + ", " +
+                        std::to_string(uses.size()) + " shapes painting meshes",
+                    use.shape ? use.shape : use.paint);
         const XMLElement* unitsEl = attr("gradientUnits");
         if (!unitsEl || std::strcmp(unitsEl->Attribute("gradientUnits"), "userSpaceOnUse") != 0)
             rd.fail("meshgradient must have gradientUnits=\"userSpaceOnUse\" "
@@ -563,6 +596,14 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
         }
         t = compose(viewBoxShift, t);
         transformGrid(g, t);
+        // Each number is within maxCoordinate, but nested transforms multiply them.
+        if (const double reach = largestCoordinate(g); !(reach <= SvgReadLimits::maxCoordinate)) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.3g", reach);
+            rd.fail(std::string("mesh coordinates reach ") + text +
+                        " after its transforms, over the limit of 1e7",
+                    use.shape ? use.shape : use.paint);
+        }
         doc.meshes.push_back(meshFromPatchGrid(g, fileName, rd.describe(use.paint)));
     }
 

@@ -7,6 +7,11 @@
 
 namespace gm {
 
+// The largest |coordinate|, in canvas pixels, of a node the SVG, EPS and PDF writers take; each Bézier handle a node's derivative makes (derivative × knot span / 3)
+// lies at most 2 × kMaxCoordinate from its node. Their number formats stay exact within it,
+// and no real canvas comes near it. (.gmb keeps any finite double.)
+constexpr double kMaxCoordinate = 1e7;
+
 // Returns an empty string when the mesh is valid, else a one-line description of the first
 // problem found: knots not strictly increasing, node count mismatch, slit outside the grid or
 // not interior, slits touching on a row, wrong number of split nodes, tangent break on a
@@ -15,6 +20,11 @@ std::string validateMesh(const GradientMesh& mesh);
 
 // As above for every mesh, plus a positive canvas size; the message names the mesh.
 std::string validateDocument(const Document& doc);
+
+// Empty when every position of a valid mesh is within kMaxCoordinate and every handle within
+// 2 × kMaxCoordinate of its node; else the first one beyond (the document's names the mesh).
+std::string coordinateProblem(const GradientMesh& mesh);
+std::string coordinateProblem(const Document& doc);
 
 // Patches that fold: the Jacobian of position (d pos/ds × d pos/dt) is ≤ 0 at one of
 // `samples`² points strictly inside the patch (a fold shows as grid lines crossing and the

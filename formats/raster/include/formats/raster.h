@@ -11,9 +11,22 @@
 
 namespace gm {
 
-// Reads PNG, JPEG, TIFF, EXR, … (8/16-bit, half/float; grey, grey+alpha, RGB, RGBA) into
-// straight-alpha float RGBA, sRGB-encoded: linear inputs (EXR, float TIFF marked linear) are
-// encoded on read. Refuses images over maxPixels before allocating their pixels.
+// What an image file's header says, read without decoding its pixels.
+struct ImageProbe {
+    int width = 0, height = 0, channels = 0;
+    std::string format;  // by content, as OpenImageIO names it: "png", "jpeg", "tiff", "openexr"
+    int pages = 1;       // subimages (pages of a TIFF); only the first is read
+};
+
+// Throws gm::Error naming the file when it cannot be opened or its content is not one of the
+// formats readImage takes (whatever its extension says).
+ImageProbe probeImage(const std::string& path);
+
+// Reads PNG, JPEG, TIFF or OpenEXR, decided by content (8/16-bit, half/float; grey,
+// grey+alpha, RGB, RGBA) into straight-alpha float RGBA, sRGB-encoded: linear inputs (EXR,
+// float TIFF marked linear) are encoded on read. Refuses images over maxPixels before
+// allocating their pixels, files of other formats (a GIF named .png) naming their real format,
+// and files the decoder reports damaged (a truncated JPEG). Reads the first page only.
 RgbaImage readImage(const std::string& path, uint64_t maxPixels = uint64_t(64) << 20);
 
 // The file content for `path`, by its extension (.png .jpg .jpeg .tif .tiff .exr); linear

@@ -20,7 +20,13 @@ struct ReadLimits {
     uint64_t maxSlitsPerMesh = uint64_t(1) << 16;
     uint64_t maxMeshes = uint64_t(1) << 20;
     uint64_t maxCanvasSide = uint64_t(1) << 20;   // pixels
+    // Patches of all meshes together, counted before they are built: a small file can name
+    // many (an SVG painting one mesh with thousands of shapes, a compact .gmb of flat patches).
+    uint64_t maxPatches = uint64_t(1) << 20;
 };
+
+// The message of a document over ReadLimits::maxPatches (or a conversion over its limit).
+std::string tooManyPatchesMessage(uint64_t patches, uint64_t limit);
 
 struct ReadOptions {
     ReadLimits limits;
@@ -48,7 +54,17 @@ struct WriteOptions {
     std::array<float, 4> background = {0, 0, 0, 0};  // raster outputs: RGBA 0–1, alpha 0 = none
     std::array<float, 4> meshLines = {0, 0, 0, 0};   // raster outputs: patch edges drawn in
                                                      // this colour; alpha 0 = none
+    // SVG/EPS/PDF: refuse, before encoding, a document whose output would be larger (by
+    // MeshFormat::leastBytes, a lower bound).
+    uint64_t maxOutputBytes = uint64_t(1) << 30;  // 1 GiB
 };
+
+// Patches of all the document's meshes.
+uint64_t documentPatches(const Document& doc);
+
+// Throws gm::Error naming `path` when `leastBytes` is over options.maxOutputBytes.
+void requireOutputWithinLimit(uint64_t leastBytes, const WriteOptions& options,
+                              const std::string& path);
 
 class MeshFormat {
 public:
@@ -68,6 +84,11 @@ public:
     // encode(), then written atomically (atomic_file.h): never a partial file at `path`, and an
     // existing file there stays as it was when anything fails.
     void write(const Document& doc, const std::string& path, const WriteOptions& options) const;
+    // A lower bound of the bytes encode() would produce (or build in memory) for `doc`, cheap
+    // to compute; 0 when the format does not say.
+    virtual uint64_t leastBytes(const Document& /*doc*/, const WriteOptions& /*options*/) const {
+        return 0;
+    }
 };
 
 class FormatRegistry {

@@ -40,7 +40,8 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options);
 // In-memory decode; throws gm::Error naming `fileName` and the element on anything it cannot
 // read. Besides `limits` (file size, grid sizes, mesh count), it refuses: DTDs declaring
 // entities, more than SvgReadLimits::maxElements elements, nesting deeper than tinyxml2's limit,
-// numbers that are not finite or exceed SvgReadLimits::maxCoordinate, href chains with a cycle
+// numbers that are not finite or exceed SvgReadLimits::maxCoordinate (each number as written,
+// and every mesh point once its transforms are applied), href chains with a cycle
 // or longer than SvgReadLimits::maxHrefChain.
 //
 // Recovery of the Ferguson data (a meshgradient stores Bézier handles, not derivatives):
