@@ -323,7 +323,7 @@ int cmdConvert(const Args& a, bool renderOnly) {
     const gm::Document doc = readDocument(in, ro);
     if (writer->name() == "raster")
         gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
-    writer->write(gm::documentForWriter(doc, *writer, wo), out, wo);
+    writer->write(gm::documentForWriter(doc, *writer, wo, out), out, wo);
     return 0;
 }
 

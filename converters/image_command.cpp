@@ -399,7 +399,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     size_t outBytes = 0;
     {
         const std::string bytes = writer.encode(
-            compactOutput ? compact.doc : documentForWriter(doc, writer, wo, co.threads), out, wo);
+            compactOutput ? compact.doc : documentForWriter(doc, writer, wo, out, co.threads), out, wo);
         outBytes = bytes.size();
         outputs.write(out, bytes);
     }
@@ -500,9 +500,11 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
 }
 
 Document documentForWriter(const Document& doc, const MeshFormat& writer,
-                           const WriteOptions& options, int threads) {
+                           const WriteOptions& options, const std::string& path, int threads) {
     if (writer.name() != "svg" || options.svgColors == "exact" || !hasHermiteMeshes(doc))
         return doc;
+    // A document too large for the output limit is refused before the refit's work.
+    requireOutputWithinLimit(writer.leastBytes(doc, options), options, path);
     BicubicConversion c = toBicubicModel(doc, threads);
     std::fprintf(stderr,
                  "svg: %d Hermite mesh(es) refitted to the bicubic rule: E %.2f, PSNR %.2f dB, "

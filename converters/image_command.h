@@ -24,8 +24,10 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
 
 // The document as `writer` should receive it: for the default bicubic SVG, Hermite meshes are
 // refitted in the Bicubic model (toBicubicModel), and a line on standard error says how far
-// the result is from the Hermite mesh's own render. Any other writer gets `doc` itself.
+// the result is from the Hermite mesh's own render (a document over the output limit for
+// `path` is refused first). Any other writer gets `doc` itself.
 Document documentForWriter(const Document& doc, const MeshFormat& writer,
-                           const WriteOptions& options, int threads = 0);
+                           const WriteOptions& options, const std::string& path,
+                           int threads = 0);
 
 }  // namespace gm
