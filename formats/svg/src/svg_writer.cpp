@@ -95,8 +95,10 @@ SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, double minP
 }
 
 // Compact syntax: a patch's tensor (interior) points are written only when one lies further
-// than this (px) from the Coons interior Inkscape assumes without them.
-constexpr double kTensorTolerance = 0.25;
+// than this (px) from the Coons interior Inkscape assumes without them. They move the inside
+// of a patch, not its edges or colours: leaving all of them out changed Inkscape's render of
+// the apple by E 0.007, and our reader does not keep them.
+constexpr double kTensorTolerance = 1.0;
 
 // How numbers are written: decimals per coordinate, and whether separators are left out where
 // the grammar allows it (before a minus sign, and after a path command letter).
@@ -127,14 +129,19 @@ void appendPoints(std::string& out, std::initializer_list<Vec2> points, const Nu
         }
         return;
     }
-    bool first = true;
+    // A number needs no separator before it when it starts with '-', or with '.' after a
+    // number that already has its point ("1.5.25" is 1.5 and .25 in the path grammar).
+    bool first = true, previousHasPoint = false;
     std::string text;
     for (Vec2 p : points)
         for (double v : {p.x, p.y}) {
             text.clear();
             appendSvgNumber(text, v, true, syntax.decimals);
-            if (!first && text[0] != '-') out += ' ';
+            const bool joins = text[0] == '-' || (text[0] == '.' && previousHasPoint);
+            if (!first && !joins) out += ' ';
             out += text;
+            previousHasPoint = text.find_first_of(".eE") != std::string::npos &&
+                               text.find_first_of("eE") == std::string::npos;
             first = false;
         }
 }
