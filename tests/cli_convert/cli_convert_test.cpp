@@ -791,9 +791,9 @@ TEST_CASE("the default SVG is what Inkscape shows: one patch per patch, bicubic,
     };
     // pic1's outline has a 1-px rim where the colour jumps from black to white inside the
     // outermost patches: Inkscape's 8x8 bilinear pieces miss it there even in the exact SVG
-    // (p99 8). In a whole image, a mesh's outline lies over the meshes beneath it, and
-    // Inkscape clips each mesh to the pixel centres inside its patches (its fill path alone
-    // is anti-aliased), where we blend by coverage: the region borders differ.
+    // (p99 8). A whole image's meshes have patches of 3-4 px with stroke-steep colour, which
+    // Inkscape's rasteriser approximates at 1:1 (the difference halves with each doubling of
+    // the zoom; bench/README.md).
     const Case cases[] = {
         {"apple", "convert " + q(S + "apple.jpg") + " --mask " + q(S + "apple_mask.png"), 0.5, 4},
         {"pic1", "convert " + q(S + "pic1.png"), 0.5, 12},
