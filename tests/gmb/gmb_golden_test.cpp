@@ -75,6 +75,8 @@ TEST_CASE("golden 1.0 compact file with rule colour derivatives recomputes them"
         CHECK(d.meshes[1].nodes[k].col == expected.meshes[1].nodes[k].col);
     }
     CHECK(gm::followsColorRule(d.meshes[1]));
+    // Files from before the colour models read as Hermite, their slopes recomputed.
+    for (const gm::GradientMesh& m : d.meshes) CHECK(m.colorModel == gm::ColorModel::Hermite);
 }
 
 TEST_CASE("golden 1.1 compact file reads to its document exactly", "[golden][roundtrip]") {

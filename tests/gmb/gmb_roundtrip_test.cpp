@@ -707,3 +707,30 @@ TEST_CASE("a converted whole image is smaller in CMS3 than in CMS2", "[roundtrip
                                 level);
     }
 }
+
+TEST_CASE("the colour model round-trips: a bicubic mesh is read back bicubic, without slopes",
+          "[roundtrip][bicubic]") {
+    GradientMesh m = slitMeshWithBreaks();
+    m.colorModel = gm::ColorModel::Bicubic;
+    // The model ignores stored slopes: zero them, as the converter leaves them.
+    for (gm::Node& n : m.nodes) n.colU = n.colV = gm::Vec3{};
+    for (gm::Slit& s : m.slits) {
+        for (gm::Node& n : s.below) n.colU = n.colV = gm::Vec3{};
+        s.left.colU = s.right.colU = gm::Vec3{};
+    }
+    for (gm::CornerTangent& t : m.tangents) t.colU = gm::Vec3{};
+    Document doc = singleMeshDocument(m, 640, 480);
+    doc.meshes.push_back(gmbtest::randomMesh(7));  // a hermite mesh beside it
+    requireLosslessRoundTrip(doc);
+    for (const std::string& bytes : {gm::encodeGmb(doc, true), gmbtest::encodeV1(doc, true)}) {
+        const Document back = gm::decodeGmb(bytes, gm::ReadLimits{});
+        REQUIRE(back.meshes.size() == 2);
+        CHECK(back.meshes[0].colorModel == gm::ColorModel::Bicubic);
+        CHECK(back.meshes[1].colorModel == gm::ColorModel::Hermite);
+    }
+    // Without slopes the compact bicubic mesh is smaller than the same mesh as hermite.
+    Document hermite = doc;
+    hermite.meshes[0].colorModel = gm::ColorModel::Hermite;
+    gmbtest::addFittingNoise(hermite.meshes[0], 5);
+    CHECK(gm::encodeGmb(doc, true).size() < gm::encodeGmb(hermite, true).size());
+}

@@ -79,7 +79,10 @@ inline MeshPayloads specMeshPayloads(const gm::GradientMesh& m) {
     putLE(p.mesh, static_cast<uint32_t>(m.v.size() - 1), 4);
     putLE(p.mesh, m.slits.size(), 4);
     putLE(p.mesh, m.tangents.size(), 4);
-    p.mesh.append(2 + 14, '\0');  // float64 encoding, no flags, zero exponents
+    p.mesh.push_back('\0');  // float64 encoding
+    // Flags: bit 1 for the Bicubic colour model; then zero exponents.
+    p.mesh.push_back(m.colorModel == gm::ColorModel::Bicubic ? '\x02' : '\0');
+    p.mesh.append(14, '\0');
     for (double x : m.u) putF64(p.knot, x);
     for (double x : m.v) putF64(p.knot, x);
     for (const gm::Node& n : m.nodes) putNode(p.node, n);
