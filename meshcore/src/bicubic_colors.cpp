@@ -170,14 +170,6 @@ PatchColorRule bicubicPatchRule(const GradientMesh& mesh, int i, int j) {
     return patchRule(mesh, Layout(mesh), i, j);
 }
 
-double ruleSlopeValue(const GradientMesh& mesh, const RuleSlope& slope, int ch) {
-    const Layout layout(mesh);
-    double v = 0.0;
-    for (int k = 0; k < slope.count; ++k)
-        v += slope.weight[k] * nodeCopy(mesh, layout, static_cast<size_t>(slope.copy[k])).col[ch];
-    return v;
-}
-
 void bicubicPatchSlopes(const GradientMesh& mesh, int i, int j, Vec3 colS[2][2],
                         Vec3 colT[2][2]) {
     const Layout layout(mesh);

@@ -394,3 +394,68 @@ TEST_CASE("bicubicExportDeviation: exact when chord per parameter matches on bot
         CHECK(worst > 0.01);
     }
 }
+
+TEST_CASE("bicubic model: each patch corner gets Inkscape's slope, whatever the knots",
+          "[color_rule][bicubic]") {
+    // Unequal chords (10, 20 px over unit knots): the global-parameter rule must compromise at
+    // the middle node (local slopes .3 and .3 against Inkscape's .2 and .4); the model gives
+    // each patch its own.
+    GradientMesh m = lattice({0, 10, 30}, {0, 10}, iota(2, 1), {0, 1});
+    setRow(m, 0, 0, {0.0, 0.2, 0.6});
+    setRow(m, 1, 0, {0.0, 0.2, 0.6});
+    m.colorModel = ColorModel::Bicubic;
+    const PatchHermite left = patchHermite(m, 0, 0), right = patchHermite(m, 1, 0);
+    // g at the middle node = mean of secants .02 and .02 = .02 per px; local = g * chord.
+    CHECK(left.corner[1][0].colS.r == Approx(0.2));
+    CHECK(right.corner[0][0].colS.r == Approx(0.4));
+    CHECK(left.corner[0][0].colT.r == Approx(0.0));  // rows equal: no slope along v
+    // Stored slopes are ignored by the model.
+    m.node(1, 0).colU = {5, 5, 5};
+    CHECK(patchHermite(m, 1, 0).corner[0][0].colS.r == Approx(0.4));
+}
+
+TEST_CASE("bicubic model: where the global rule is exact, the two agree", "[color_rule][bicubic]") {
+    // An affine corner lattice: chord per unit knot is the same on both sides of every node.
+    const std::vector<double> u{0, 0.7, 1.5, 3.0}, v{0, 1.2, 2.0};
+    std::vector<double> x, y;
+    for (double k : u) x.push_back(30 + 80 * k);
+    for (double k : v) y.push_back(20 + 90 * k);
+    GradientMesh rule = lattice(x, y, u, v);
+    for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= 3; ++i)
+            rule.node(i, j).col = {std::fmod(0.37 * i + 0.61 * j, 1.0), 0.1 * i * j,
+                                   (i == 1) ? 0.9 : 0.2};
+    GradientMesh model = rule;
+    model.colorModel = ColorModel::Bicubic;
+    applyColorRule(rule);
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i) {
+            const PatchHermite a = patchHermite(rule, i, j), b = patchHermite(model, i, j);
+            for (int c = 0; c < 4; ++c) {
+                CHECK(diff(a.corner[c / 2][c % 2].colS, b.corner[c / 2][c % 2].colS) < 1e-12);
+                CHECK(diff(a.corner[c / 2][c % 2].colT, b.corner[c / 2][c % 2].colT) < 1e-12);
+            }
+        }
+}
+
+TEST_CASE("bicubic model: a slit mesh's patches are those of its hole-free pieces",
+          "[color_rule][bicubic]") {
+    for (bool symmetric : {true, false}) {
+        GradientMesh whole = slitMesh(symmetric);
+        whole.colorModel = ColorModel::Bicubic;
+        const std::vector<GradientMesh> pieces = splitIntoLegacyMeshes(whole);
+        REQUIRE(pieces.size() == 2);
+        for (int j = 0; j < whole.rows(); ++j)
+            for (int i = 0; i < whole.columns(); ++i) {
+                const GradientMesh& piece = pieces[j < 2 ? 0 : 1];
+                const PatchHermite a = patchHermite(whole, i, j),
+                                   b = patchHermite(piece, i, j < 2 ? j : j - 2);
+                for (int c = 0; c < 4; ++c) {
+                    const HermiteCorner &x = a.corner[c / 2][c % 2], &y = b.corner[c / 2][c % 2];
+                    CHECK(diff(x.col, y.col) == 0);
+                    CHECK(diff(x.colS, y.colS) < 1e-12);
+                    CHECK(diff(x.colT, y.colT) < 1e-12);
+                }
+            }
+    }
+}

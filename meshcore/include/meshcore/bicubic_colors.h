@@ -51,7 +51,4 @@ PatchColorRule bicubicPatchRule(const GradientMesh& mesh, int i, int j);
 void bicubicPatchSlopes(const GradientMesh& mesh, int i, int j, Vec3 colS[2][2],
                         Vec3 colT[2][2]);
 
-// The value of a slope form over the mesh's current node-copy colours, channel ch.
-double ruleSlopeValue(const GradientMesh& mesh, const RuleSlope& slope, int ch);
-
 }  // namespace gm
