@@ -151,10 +151,10 @@ def main():
         # with a budget that --max-error, not the budget, stops.
         ("apple.jpg + apple_mask.png, --max-patches 16000", S("apple.jpg"), S("apple_mask.png"),
          ["--max-patches", "16000"]),
-        # Colour slopes by SVG's bicubic rule: smaller files, an editable SVG that keeps the
-        # colours (see the notes' "editable SVG" figure), some E.
-        ("apple.jpg + apple_mask.png, --colors rule", S("apple.jpg"), S("apple_mask.png"),
-         ["--colors", "rule"]),
+        # Free colour slopes (the default is the bicubic model): lower E per patch, larger
+        # files, an SVG refitted to the bicubic rule.
+        ("apple.jpg + apple_mask.png, --colors hermite", S("apple.jpg"), S("apple_mask.png"),
+         ["--colors", "hermite"]),
         ("horse.png (no mask: convert decides)", S("horse.png"), None),
         ("horse.png + silhouette mask", S("horse.png"), G("horse_mask.png")),
         ("blob (synthetic, 512²)", G("blob.png"), None),

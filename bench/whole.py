@@ -24,10 +24,10 @@ IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png"]
 # (also --total-patches N: one budget for the whole image, shared out by the regions' measured
 # error curves). With the default budget (8000 patches per region, at most one per 8 region
 # pixels) --max-error is what stops most regions, so E sets the size; the fixed small budgets
-# give the low-rate end of the curve. "3" is convert's default. A trailing "r" adds
-# `--colors rule` (colour slopes from the rule, not stored: cheaper patches, a little less PSNR
-# each; at the low end more patches for the same bytes can pay).
-POINTS = ["2/4", "2/10", "2/t50", "2/t60", "2/t120", "2/t130r", "2/25", "2/t250", "2/50", "2/100",
+# give the low-rate end of the curve. "3" is convert's default. A trailing "h" adds
+# `--colors hermite` (free colour slopes, stored: dearer patches, more PSNR each; the default
+# is the bicubic model, whose slopes follow the SVG rule and are not stored).
+POINTS = ["2/4", "2/10", "2/t50", "2/t60", "2/t120", "2/t130h", "2/25", "2/t250", "2/50", "2/100",
           "2/400", "8", "5", "4", "3"]  # about rising size
 
 # Compact .gmb levels of the rate-distortion rows (gmb.h, GmbCompactShifts), each point converted
@@ -181,14 +181,14 @@ def plot_svg(path, series):
 
 
 def parse_point(text):
-    """"E", "E/P" or "E/tN", each with an optional trailing "r" (rule colours) ->
-    (E, P or None, N or None, rule)."""
+    """"E", "E/P" or "E/tN", each with an optional trailing "h" (hermite colours) ->
+    (E, P or None, N or None, hermite)."""
     text = text.strip()
-    rule = text.endswith("r")
-    e, _, p = text.rstrip("r").partition("/")
+    hermite = text.endswith("h")
+    e, _, p = text.rstrip("h").partition("/")
     if p.startswith("t"):
-        return float(e), None, int(p[1:]), rule
-    return float(e), (int(p) if p else None), None, rule
+        return float(e), None, int(p[1:]), hermite
+    return float(e), (int(p) if p else None), None, hermite
 
 
 def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, points=None):
@@ -227,14 +227,14 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
             white_png(mask, jc["width"], jc["height"])
             extra = ["--mask", mask]
         mesh_pts = []
-        for (e, budget, total, rule), level in [(p, lv) for p in points for lv in COMPACT_LEVELS]:
+        for (e, budget, total, hermite), level in [(p, lv) for p in points for lv in COMPACT_LEVELS]:
             base = os.path.join(out, "%s_E%g%s%s%s_L%d" % (stem, e, "_P%d" % budget if budget else "",
                                                            "_T%d" % total if total else "",
-                                                           "_rule" if rule else "", level))
+                                                           "_hermite" if hermite else "", level))
             gmb, rep = base + ".gmb", base + ".json"
             args = ["--compact-level", str(level), "--max-error", "%g" % e]
-            if rule:
-                args += ["--colors", "rule"]
+            if hermite:
+                args += ["--colors", "hermite"]
             if budget:
                 args += ["--max-patches", str(budget)]
             elif total and segment:
@@ -285,8 +285,8 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
             else:
                 bcell = str(r.get("max_patches", budget)) + (
                     "" if budget else " (default)" if segment else " (stand-in)")
-            if rule:
-                bcell += ", `--colors rule`"
+            if hermite:
+                bcell += ", `--colors hermite`"
             body.append([name, "%g" % e, bcell, str(level), str(regions), str(r["patches"]),
                          fmt(err["E"]),
                          fmt(psnr), str(compact), str(zipped), jcell, ratio, ratio_base, rcell,
@@ -301,7 +301,7 @@ def section(run_convert, fmt, table, log, gm, jm, samples, out, only, timeout, p
     print()
     if segment:
         print("Each row: `gradmesh convert IMAGE %s --compact-level L --max-error E "
-              "[--max-patches P | --total-patches N] [--colors rule] --report R.json` (E target, "
+              "[--max-patches P | --total-patches N] [--colors hermite] --report R.json` (E target, "
               "patch budget P per region or N for the whole image, compact level L); E and PSNR "
               "are the compact file's own (decoded and re-rendered)." %
               " ".join(SEGMENT_ARGS))
