@@ -3,6 +3,7 @@
 #include <initializer_list>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "formats/svg.h"
@@ -109,7 +110,10 @@ struct NumberSyntax {
 
 // The points of one path command after its letter: " x,y x,y" (exact), or numbers separated
 // only where needed, "1.5 2-.3" (compact).
-void appendPoints(std::string& out, std::initializer_list<Vec2> points, const NumberSyntax& syntax);
+void appendPoints(std::string& out, const Vec2* begin, const Vec2* end, const NumberSyntax& syntax);
+void appendPoints(std::string& out, std::initializer_list<Vec2> points, const NumberSyntax& syntax) {
+    appendPoints(out, points.begin(), points.end(), syntax);
+}
 
 void appendPair(std::string& out, Vec2 d) {
     appendSvgNumber(out, d.x);
@@ -121,11 +125,11 @@ Vec2 printed(Vec2 d, int decimals = kSvgDecimalsExact) {
     return {svgPrintedValue(d.x, decimals), svgPrintedValue(d.y, decimals)};
 }
 
-void appendPoints(std::string& out, std::initializer_list<Vec2> points, const NumberSyntax& syntax) {
+void appendPoints(std::string& out, const Vec2* begin, const Vec2* end, const NumberSyntax& syntax) {
     if (!syntax.compact) {
-        for (Vec2 p : points) {
+        for (const Vec2* p = begin; p != end; ++p) {
             out += ' ';
-            appendPair(out, p);
+            appendPair(out, *p);
         }
         return;
     }
@@ -133,8 +137,8 @@ void appendPoints(std::string& out, std::initializer_list<Vec2> points, const Nu
     // number that already has its point ("1.5.25" is 1.5 and .25 in the path grammar).
     bool first = true, previousHasPoint = false;
     std::string text;
-    for (Vec2 p : points)
-        for (double v : {p.x, p.y}) {
+    for (const Vec2* p = begin; p != end; ++p)
+        for (double v : {p->x, p->y}) {
             text.clear();
             appendSvgNumber(text, v, true, syntax.decimals);
             const bool joins = text[0] == '-' || (text[0] == '.' && previousHasPoint);
@@ -339,23 +343,63 @@ double signedArea(const std::vector<Vec2>& polygon) {
 // path: two pieces whose paths both reach across their shared edge each paint the pixels whose
 // centres they cover, fully, so no seam shows between them. The band reaches 1 px beyond the
 // edge's control polygon on both sides.
+// Runs of consecutive patch columns: [first, last] pairs.
+std::vector<std::pair<int, int>> columnRuns(const std::vector<int>& columns) {
+    std::vector<std::pair<int, int>> runs;
+    for (int i : columns) {
+        if (!runs.empty() && runs.back().second + 1 == i)
+            runs.back().second = i;
+        else
+            runs.emplace_back(i, i);
+    }
+    return runs;
+}
+
+// How far the band must reach from the chord of patch edge (i, row): 1 px beyond the edge's
+// control polygon; and the chord's unit normal (zero for a degenerate edge).
+double edgeReach(const SvgPatchGrid& g, int i, int row, Vec2& normal) {
+    const Vec2 a = g.P(i, row), d = g.P(i + 1, row) - a;
+    const double len = norm(d);
+    normal = len > 0 ? Vec2{-d.y / len, d.x / len} : Vec2{};
+    double reach = 1.0;
+    for (Vec2 h : {g.H(i, row)[0], g.H(i, row)[1]})
+        reach = std::max(reach, 1.0 + std::fabs(dot(h - a, normal)));
+    return reach;
+}
+
 void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
                     const std::vector<int>& columns, double orientation,
                     const NumberSyntax& syntax) {
-    for (int i : columns) {
-        const Vec2 a = g.P(i, row), b = g.P(i + 1, row);
-        const Vec2 d = b - a;
-        const double len = norm(d);
-        if (!(len > 0)) continue;
-        const Vec2 n = {-d.y / len, d.x / len};
-        double reach = 1.0;
-        for (Vec2 h : {g.H(i, row)[0], g.H(i, row)[1]}) reach = std::max(reach, 1.0 + std::fabs(dot(h - a, n)));
-        std::vector<Vec2> quad = {a + reach * n, b + reach * n, b - reach * n, a - reach * n};
-        if (signedArea(quad) * orientation < 0) std::swap(quad[1], quad[3]);
+    for (const auto& [first, last] : columnRuns(columns)) {
+        // One polygon per run: the grid row's corners offset both ways along their normals.
+        std::vector<Vec2> ahead, behind;
+        for (int k = first; k <= last + 1; ++k) {
+            Vec2 n{};
+            double reach = 1.0;
+            std::vector<Vec2> edgeNormals;
+            for (int e : {k - 1, k}) {
+                if (e < first || e > last) continue;
+                Vec2 ne;
+                reach = std::max(reach, edgeReach(g, e, row, ne));
+                if (norm(ne) > 0) edgeNormals.push_back(ne);
+                n = n + ne;
+            }
+            if (!(norm(n) > 0)) continue;
+            n = (1.0 / norm(n)) * n;
+            // At a bend the offset corner moves further, so that both edges keep their reach.
+            double slack = 1.0;
+            for (Vec2 ne : edgeNormals) slack = std::min(slack, std::max(0.5, dot(n, ne)));
+            ahead.push_back(g.P(k, row) + (reach / slack) * n);
+            behind.push_back(g.P(k, row) - (reach / slack) * n);
+        }
+        if (ahead.size() < 2) continue;
+        std::vector<Vec2> polygon = ahead;
+        polygon.insert(polygon.end(), behind.rbegin(), behind.rend());
+        if (signedArea(polygon) * orientation < 0) std::reverse(polygon.begin(), polygon.end());
         out += 'M';
-        appendPoints(out, {quad[0]}, syntax);
+        appendPoints(out, {polygon[0]}, syntax);
         out += 'L';
-        appendPoints(out, {quad[1], quad[2], quad[3]}, syntax);
+        appendPoints(out, polygon.data() + 1, polygon.data() + polygon.size(), syntax);
         out += 'Z';
     }
 }
