@@ -93,25 +93,31 @@ LocalMap localMap(const PatchColorRule& rule, int ch) {
     return m;
 }
 
+// The node-copy colours (nodes, then every slit's `below` copies), one row each, and back.
 Eigen::MatrixXd copyColors(const GradientMesh& mesh) {
-    const int n = nodeCopyCount(mesh);
-    Eigen::MatrixXd c(n, 3);
-    for (int k = 0; k < n; ++k) {
-        const Vec3 v = nodeCopyColor(mesh, k);
-        for (int ch = 0; ch < 3; ++ch) c(k, ch) = v[ch];
-    }
+    size_t n = mesh.nodes.size();
+    for (const Slit& s : mesh.slits) n += s.below.size();
+    Eigen::MatrixXd c(static_cast<Eigen::Index>(n), 3);
+    Eigen::Index k = 0;
+    auto put = [&](const Node& node) {
+        for (int ch = 0; ch < 3; ++ch) c(k, ch) = node.col[ch];
+        ++k;
+    };
+    for (const Node& node : mesh.nodes) put(node);
+    for (const Slit& s : mesh.slits)
+        for (const Node& node : s.below) put(node);
     return c;
 }
 
 void setCopyColors(GradientMesh& mesh, const Eigen::MatrixXd& c) {
-    const size_t nodes = mesh.nodes.size();
-    for (size_t k = 0; k < nodes; ++k) mesh.nodes[k].col = {c(k, 0), c(k, 1), c(k, 2)};
-    size_t k = nodes;
+    Eigen::Index k = 0;
+    auto take = [&](Node& node) {
+        node.col = {c(k, 0), c(k, 1), c(k, 2)};
+        ++k;
+    };
+    for (Node& node : mesh.nodes) take(node);
     for (Slit& s : mesh.slits)
-        for (Node& n : s.below) {
-            n.col = {c(k, 0), c(k, 1), c(k, 2)};
-            ++k;
-        }
+        for (Node& node : s.below) take(node);
 }
 
 std::vector<PatchColorRule> rulesOf(const GradientMesh& mesh,

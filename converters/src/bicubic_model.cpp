@@ -5,6 +5,7 @@
 
 #include "converters/convert_image.h"
 #include "converters/visible_colours.h"
+#include "meshcore/bicubic_colors.h"
 #include "meshcore/render.h"
 
 namespace gm {
@@ -31,10 +32,7 @@ BicubicConversion toBicubicModel(const Document& doc, int threads) {
     out.doc = refitVisibleColors(doc, target, covered, ColorMode::FitBicubic, threads);
     for (GradientMesh& m : out.doc.meshes) {
         // A mesh topmost on too few pixels to refit keeps its colours, in the Bicubic model.
-        if (m.colorModel == ColorModel::Hermite) {
-            m.colorModel = ColorModel::Bicubic;
-            for (Node& n : m.nodes) n.colU = n.colV = Vec3{};
-        }
+        if (m.colorModel == ColorModel::Hermite) useBicubicModel(m);
     }
     for (const GradientMesh& m : doc.meshes) out.refitted += m.colorModel == ColorModel::Hermite;
     out.error = compareOverMask(target, renderDocument(out.doc, ro).image, covered);

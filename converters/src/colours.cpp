@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "bicubic_fit.h"
+#include "meshcore/bicubic_colors.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/evaluate.h"
@@ -487,19 +488,6 @@ void sampleNodeColors(GradientMesh& mesh, const RgbaImage& image, const Region& 
 
 namespace {
 
-// The mesh in the Bicubic model: its stored colour slopes cleared (the model ignores them).
-GradientMesh asBicubic(GradientMesh mesh) {
-    mesh.colorModel = ColorModel::Bicubic;
-    auto clear = [](Node& n) { n.colU = n.colV = Vec3{}; };
-    for (Node& n : mesh.nodes) clear(n);
-    for (Slit& s : mesh.slits) {
-        for (Node& n : s.below) clear(n);
-        s.left.colU = s.right.colU = Vec3{};
-    }
-    for (CornerTangent& t : mesh.tangents) t.colU = Vec3{};
-    return mesh;
-}
-
 // The sampled solution computeColors starts from: every node colour sampled; the slopes by the
 // rule (a Hermite mesh), the Bicubic model (Sampled, FitBicubic, and FitValues of a Bicubic
 // mesh), or in FitValues mode the geometry's own.
@@ -512,7 +500,10 @@ GradientMesh sampledStart(const GradientMesh& geometry, const RgbaImage& image,
     sampleNodeColors(mesh, image, region);
     const bool bicubic = mode == ColorMode::Sampled || mode == ColorMode::FitBicubic ||
                          (mode == ColorMode::FitValues && geometry.colorModel == ColorModel::Bicubic);
-    if (bicubic) return asBicubic(std::move(mesh));
+    if (bicubic) {
+        useBicubicModel(mesh);
+        return mesh;
+    }
     if (mode != ColorMode::FitValues) return mesh;
     GradientMesh withSlopes = geometry;
     for (size_t k = 0; k < withSlopes.nodes.size(); ++k)

@@ -158,12 +158,15 @@ PatchColorRule patchRule(const GradientMesh& mesh, const Layout& layout, int i, 
 
 }  // namespace
 
-int nodeCopyCount(const GradientMesh& mesh) {
-    return static_cast<int>(Layout(mesh).nodeCopies);
-}
-
-Vec3 nodeCopyColor(const GradientMesh& mesh, int copy) {
-    return nodeCopy(mesh, Layout(mesh), static_cast<size_t>(copy)).col;
+void useBicubicModel(GradientMesh& mesh) {
+    mesh.colorModel = ColorModel::Bicubic;
+    auto clear = [](Node& n) { n.colU = n.colV = Vec3{}; };
+    for (Node& n : mesh.nodes) clear(n);
+    for (Slit& s : mesh.slits) {
+        for (Node& n : s.below) clear(n);
+        s.left.colU = s.right.colU = Vec3{};
+    }
+    for (CornerTangent& t : mesh.tangents) t.colU = Vec3{};
 }
 
 PatchColorRule bicubicPatchRule(const GradientMesh& mesh, int i, int j) {

@@ -40,9 +40,9 @@ struct PatchColorRule {
     RuleSlope s[3][2][2], t[3][2][2];  // [channel][a][b]
 };
 
-// The number of node copies and the colour of one (as numbered above).
-int nodeCopyCount(const GradientMesh& mesh);
-Vec3 nodeCopyColor(const GradientMesh& mesh, int copy);
+// Puts `mesh` in the Bicubic model: sets colorModel and zeroes every stored colour slope (node
+// copies, slit ends, corner tangents), which the model ignores, so that files store zeros.
+void useBicubicModel(GradientMesh& mesh);
 
 // The rule's linear forms for patch (i,j) at the mesh's current colours.
 PatchColorRule bicubicPatchRule(const GradientMesh& mesh, int i, int j);
