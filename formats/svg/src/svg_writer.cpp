@@ -60,19 +60,40 @@ std::vector<BezierPatch> meshPatches(const GradientMesh& mesh) {
     return out;
 }
 
-// Exact mode: patch column i split ku[i] times, patch row j kv[j] times.
-SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, double minPiece, int* maxK) {
-    const int C = mesh.columns(), R = mesh.rows();
-    const std::vector<BezierPatch> base = meshPatches(mesh);
-    std::vector<int> ku(static_cast<size_t>(C), 1), kv(static_cast<size_t>(R), 1);
-    for (int j = 0; j < R; ++j) {
-        for (int i = 0; i < C; ++i) {
-            const auto [ks, kt] =
-                exactColorPieces(base[static_cast<size_t>(j) * C + i], tolerance, minPiece);
-            ku[i] = std::max(ku[i], ks);
-            kv[j] = std::max(kv[j], kt);
-        }
+// Exact mode: how many pieces each patch column (ku) and patch row (kv) of a hole-free mesh is
+// split into: the most any of its patches needs (exactColorPieces).
+struct ExactSplits {
+    std::vector<int> ku, kv;
+    int64_t svgPatches() const {
+        int64_t nu = 0, nv = 0;
+        for (int k : ku) nu += k;
+        for (int k : kv) nv += k;
+        return nu * nv;
     }
+    int largest() const {
+        int m = 1;
+        for (int k : ku) m = std::max(m, k);
+        for (int k : kv) m = std::max(m, k);
+        return m;
+    }
+};
+
+ExactSplits exactSplits(const GradientMesh& mesh, double tolerance, double minPiece) {
+    const int C = mesh.columns(), R = mesh.rows();
+    ExactSplits sp{std::vector<int>(static_cast<size_t>(C), 1), std::vector<int>(static_cast<size_t>(R), 1)};
+    for (int j = 0; j < R; ++j)
+        for (int i = 0; i < C; ++i) {
+            const auto [ks, kt] = exactColorPieces(toBezier(mesh, i, j), tolerance, minPiece);
+            sp.ku[i] = std::max(sp.ku[i], ks);
+            sp.kv[j] = std::max(sp.kv[j], kt);
+        }
+    return sp;
+}
+
+// Exact mode: patch column i split ku[i] times, patch row j kv[j] times.
+SvgPatchGrid refinedGrid(const std::vector<BezierPatch>& base, int C, int R,
+                         const ExactSplits& sp) {
+    const std::vector<int>&ku = sp.ku, &kv = sp.kv;
     std::vector<int> u0(static_cast<size_t>(C) + 1, 0), v0(static_cast<size_t>(R) + 1, 0);
     for (int i = 0; i < C; ++i) u0[i + 1] = u0[i] + ku[i];
     for (int j = 0; j < R; ++j) v0[j + 1] = v0[j] + kv[j];
@@ -90,8 +111,6 @@ SvgPatchGrid refinedGrid(const GradientMesh& mesh, double tolerance, double minP
             }
         }
     }
-    for (int k : ku) *maxK = std::max(*maxK, k);
-    for (int k : kv) *maxK = std::max(*maxK, k);
     return gridFromPatches(fine, nu, nv);
 }
 
@@ -456,19 +475,6 @@ std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
 
 }  // namespace
 
-// Exact mode's patch count for the whole document, checked against the cap before writing.
-int64_t exactPatchCount(const std::vector<SvgPiece>& pieces, const WriteOptions& options) {
-    int64_t total = 0;
-    for (const SvgPiece& p : pieces) {
-        const GradientMesh& piece = p.mesh;
-        int ignored = 1;
-        const SvgPatchGrid fine =
-            refinedGrid(piece, options.colorTolerance, options.minPiece, &ignored);
-        total += fine.columns * int64_t(fine.rows);
-    }
-    return total;
-}
-
 std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats) {
     const bool exact = options.svgColors == "exact";
     if (!exact && options.svgColors != "bicubic" && options.svgColors != "editable")
@@ -480,8 +486,14 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
 
     const std::vector<SvgPiece> pieces = svgPieces(doc, options.legacy);
+    // Exact mode's splits, counted against the cap before anything is written.
+    std::vector<ExactSplits> splits;
     if (exact) {
-        const int64_t count = exactPatchCount(pieces, options);
+        int64_t count = 0;
+        for (const SvgPiece& p : pieces) {
+            splits.push_back(exactSplits(p.mesh, options.colorTolerance, options.minPiece));
+            count += splits.back().svgPatches();
+        }
         if (count > options.maxSvgPatches)
             throw Error("exact SVG colours need " + std::to_string(count) +
                         " SVG patches, over the cap of " + std::to_string(options.maxSvgPatches) +
@@ -498,14 +510,15 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
     std::string paths;
     int n = 0;
-    for (const SvgPiece& p : pieces) {
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        const SvgPiece& p = pieces[k];
         const GradientMesh& piece = p.mesh;
         const std::string id = "m" + std::to_string(n++);
-        const SvgPatchGrid base =
-            gridFromPatches(meshPatches(piece), piece.columns(), piece.rows());
+        const std::vector<BezierPatch> patches = meshPatches(piece);
+        const SvgPatchGrid base = gridFromPatches(patches, piece.columns(), piece.rows());
         if (exact) {
-            const SvgPatchGrid fine = refinedGrid(piece, options.colorTolerance, options.minPiece,
-                                                  &local.maxSubdivision);
+            const SvgPatchGrid fine = refinedGrid(patches, piece.columns(), piece.rows(), splits[k]);
+            local.maxSubdivision = std::max(local.maxSubdivision, splits[k].largest());
             appendMeshGradient(out, fine, id, false, syntax);
             local.svgPatches += fine.columns * int64_t(fine.rows);
         } else {
