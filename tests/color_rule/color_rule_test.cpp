@@ -96,6 +96,21 @@ std::vector<GradientMesh> cutSlitMesh(const GradientMesh& m) {
     return {up, down};
 }
 
+// A 3×2 mesh whose corners lie on an affine lattice of non-uniform knots (chord per unit knot
+// the same on both sides of every node), with uneven colours; zero derivatives.
+GradientMesh affineLattice() {
+    const std::vector<double> u{0, 0.7, 1.5, 3.0}, v{0, 1.2, 2.0};
+    std::vector<double> x, y;
+    for (double k : u) x.push_back(30 + 80 * k);
+    for (double k : v) y.push_back(20 + 90 * k);
+    GradientMesh m = lattice(x, y, u, v);
+    for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= 3; ++i)
+            m.node(i, j).col = {std::fmod(0.37 * i + 0.61 * j, 1.0), 0.1 * i * j,
+                                (i == 1) ? 0.9 : 0.2};
+    return m;
+}
+
 double diff(Vec3 a, Vec3 b) {
     return std::max({std::fabs(a.r - b.r), std::fabs(a.g - b.g), std::fabs(a.b - b.b)});
 }
@@ -351,15 +366,7 @@ TEST_CASE("split then rule equals rule then split where the representation allow
 TEST_CASE("bicubicExportDeviation: exact when chord per parameter matches on both sides",
           "[color_rule]") {
     SECTION("affine corner lattice with non-uniform knots") {
-        const std::vector<double> u{0, 0.7, 1.5, 3.0}, v{0, 1.2, 2.0};
-        std::vector<double> x, y;
-        for (double k : u) x.push_back(30 + 80 * k);
-        for (double k : v) y.push_back(20 + 90 * k);
-        GradientMesh m = lattice(x, y, u, v);
-        for (int j = 0; j <= 2; ++j)
-            for (int i = 0; i <= 3; ++i)
-                m.node(i, j).col = {std::fmod(0.37 * i + 0.61 * j, 1.0), 0.1 * i * j,
-                                    (i == 1) ? 0.9 : 0.2};
+        GradientMesh m = affineLattice();
         CHECK(bicubicExportDeviation(m) > 0.01);  // zero derivatives are not Inkscape's
         applyColorRule(m);
         CHECK(bicubicExportDeviation(m) < 1e-12);
@@ -415,16 +422,7 @@ TEST_CASE("bicubic model: each patch corner gets Inkscape's slope, whatever the 
 }
 
 TEST_CASE("bicubic model: where the global rule is exact, the two agree", "[color_rule][bicubic]") {
-    // An affine corner lattice: chord per unit knot is the same on both sides of every node.
-    const std::vector<double> u{0, 0.7, 1.5, 3.0}, v{0, 1.2, 2.0};
-    std::vector<double> x, y;
-    for (double k : u) x.push_back(30 + 80 * k);
-    for (double k : v) y.push_back(20 + 90 * k);
-    GradientMesh rule = lattice(x, y, u, v);
-    for (int j = 0; j <= 2; ++j)
-        for (int i = 0; i <= 3; ++i)
-            rule.node(i, j).col = {std::fmod(0.37 * i + 0.61 * j, 1.0), 0.1 * i * j,
-                                   (i == 1) ? 0.9 : 0.2};
+    GradientMesh rule = affineLattice();
     GradientMesh model = rule;
     model.colorModel = ColorModel::Bicubic;
     applyColorRule(rule);
