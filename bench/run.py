@@ -236,7 +236,8 @@ def main():
         svg_exact_bytes = r["bytes"].get("svg")
         if svg_exact_bytes is None:
             svg_exact = os.path.join(out, name + "_exact.svg")
-            px = subprocess.run([gm, "convert", gmb, "-o", svg_exact], stdout=subprocess.PIPE,
+            px = subprocess.run([gm, "convert", gmb, "-o", svg_exact, "--svg-colors", "exact"],
+                                stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
             svg_exact_bytes = None
             if px.returncode == 0:

@@ -428,10 +428,13 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     // The exact SVG of a whole image or of a mesh of thousands of patches takes longer to
     // encode than the conversion (apple at 12,000 patches: 357 MB, ~14 s, ~2 GB): left out
     // there; convert the .gmb to .svg to know it.
-    if (segment || report.patches > kReportSvgMaxPatches)
+    if (segment || report.patches > kReportSvgMaxPatches) {
         s << "null}";
-    else
-        s << encodeSvg(doc, WriteOptions{}).size() << "}";
+    } else {
+        WriteOptions exact;
+        exact.svgColors = "exact";
+        s << encodeSvg(doc, exact).size() << "}";
+    }
     s << ",\n  \"compact\": {\"level\": " << compactLevel << ", \"auto\": " << (autoLevel ? "true" : "false")
       << ", \"bytes\": " << compact.bytes.size() << ", \"colors_refit\": " << jsonString(compact.refit)
       << ", \"error\": " << errorJson(compact.error) << "}";
