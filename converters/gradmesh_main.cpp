@@ -13,6 +13,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "converters/bicubic_model.h"
@@ -454,6 +455,14 @@ int cmdSample(const Args& a) {
 
 }  // namespace
 
+// A thread that cannot start (std::thread's system_error EAGAIN, TBB's "pthread_create has
+// failed") means the process has no memory left for the thread's stack.
+static bool isThreadStartFailure(const std::exception& e) {
+    if (std::string(e.what()).find("pthread_create") != std::string::npos) return true;
+    const auto* system = dynamic_cast<const std::system_error*>(&e);
+    return system && system->code() == std::errc::resource_unavailable_try_again;
+}
+
 int main(int argc, char** argv) {
     // Refinement allocates and frees the same image-sized buffers (render samples, the fit's
     // system) on every step; glibc hands blocks over its mmap threshold back to the kernel and
@@ -517,7 +526,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gradmesh %s: out of memory\n", command.c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gradmesh %s: %s\n", command.c_str(), messageLine(e.what()).c_str());
+        std::fprintf(stderr, "gradmesh %s: %s%s\n", command.c_str(),
+                     isThreadStartFailure(e) ? "out of memory: cannot start a thread: " : "",
+                     messageLine(e.what()).c_str());
         return 1;
     }
     return 2;
