@@ -8,6 +8,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libjpeg-dev libeigen3-dev libcgal-dev libtinyxml2-dev
   catch2 libzstd-dev zlib1g-dev libopencv-dev
   inkscape ghostscript poppler-utils time
+  chromium firefox-esr librsvg2-bin terser
 )
 
 missing=()
