@@ -442,6 +442,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         const SegmentStats& st = segReport.segmentation;
         s << ",\n  \"segments\": {\"count\": " << report.regions.size()
           << ", \"graph_regions\": " << st.fhRegions << ", \"grabcut_changed\": " << st.grabCutChanged
+          << ", \"border_refined\": " << st.borderRefined
           << ", \"grown\": " << st.grown << ", \"merged\": " << st.merged
           << ", \"failed\": " << segReport.failedRegions
           << ", \"holes_filled\": " << segReport.filledRegions

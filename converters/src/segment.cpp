@@ -14,6 +14,7 @@
 
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
+#include "segment_borders.h"
 
 namespace gm {
 
@@ -569,6 +570,16 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
     return res;
 }
 
+// The labels of `small` (a downscaled copy of `bgr`, or `bgr` itself) for every pixel of bgr.
+std::vector<int> upscaleToImage(const cv::Mat& small, const std::vector<int>& labels,
+                                const cv::Mat& bgr, const SegmentOptions& options,
+                                SegmentStats& st) {
+    if (small.cols == bgr.cols && small.rows == bgr.rows) return labels;
+    if (!options.refineBorders)
+        return upscaleLabels(labels, small.cols, small.rows, bgr.cols, bgr.rows);
+    return upscaleLabelsRefined(small, labels, bgr, options.threads, &st.borderRefined);
+}
+
 }  // namespace
 
 Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
@@ -628,11 +639,9 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
         st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
                                               std::max(1, options.grabCutIterations),
                                               minPixels, options.threads, st);
-        seg.labels = gc.cols == W && gc.rows == H
-                         ? std::move(labels)
-                         : upscaleLabels(labels, gc.cols, gc.rows, W, H);
+        seg.labels = upscaleToImage(gc, labels, bgr, options, st);
     } else {
-        seg.labels = upscaleLabels(fh.labels, work.cols, work.rows, W, H);
+        seg.labels = upscaleToImage(work, fh.labels, bgr, options, st);
     }
     st.grabCutSeconds = secondsSince(t);
 

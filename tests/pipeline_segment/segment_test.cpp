@@ -350,3 +350,43 @@ TEST_CASE("dump sample label maps", "[.][dump]") {
         writeImage(mean, "/tmp/seg/" + stem + ".mean.png");
     }
 }
+
+TEST_CASE("regions found on a downscaled copy keep full-size borders", "[segment]") {
+    // 1536² is over GrabCut's 512² cap: GrabCut works at a third of the size, and the
+    // upscaled border is a staircase of 3-pixel steps unless refined at full size.
+    const int w = 1536, h = 1536;
+    const double cx = 720, cy = 816, r = 480;
+    auto inDisc = [&](double x, double y) {
+        return (x - cx) * (x - cx) + (y - cy) * (y - cy) < r * r;
+    };
+    const auto image = paint(w, h, [&](double x, double y, float* p) {
+        const double u = x / w, v = y / h;
+        if (inDisc(x, y)) {
+            p[0] = static_cast<float>(0.95 - 0.25 * v);
+            p[1] = static_cast<float>(0.35 + 0.5 * u - 0.2 * v);
+            p[2] = static_cast<float>(0.1 + 0.1 * u);
+        } else {
+            p[0] = static_cast<float>(0.2 + 0.1 * u);
+            p[1] = 0.4f;
+            p[2] = static_cast<float>(0.5 + 0.1 * v);
+        }
+    });
+    long mismatch[2] = {0, 0};
+    for (const bool refine : {false, true}) {
+        SegmentOptions o;
+        o.refineBorders = refine;
+        const auto s = segmentImage(image, o);
+        printStats(refine ? "large disc, borders refined" : "large disc, upscaled", s);
+        CHECK(s.stats.grabCutWidth < w);
+        CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+        REQUIRE(s.count == 2);
+        mismatch[refine] = twoRegionMismatch(s, inDisc);
+        std::printf("  %ld pixels off the true disc (%ld refined)\n", mismatch[refine],
+                    s.stats.borderRefined);
+        if (refine) CHECK(s.stats.borderRefined > 0);
+    }
+    // The circumference is ~3000 pixels: refined, well under one pixel off per border pixel,
+    // and far better than the staircase.
+    CHECK(mismatch[1] <= 600);
+    CHECK(mismatch[1] * 3 <= mismatch[0]);
+}

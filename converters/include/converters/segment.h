@@ -44,8 +44,13 @@ struct SegmentOptions {
     int grabCutIterations = 1;
     // GrabCut runs on the image area-downscaled to at most this many pixels: its cost grows
     // with the area (~1 µs per pixel of the segments' windows, ~3x the image), so a large
-    // photo's boundaries are refined at this resolution and upscaled. 0 = always full size.
+    // photo's boundaries are refined at this resolution, then at full size by refineBorders.
+    // 0 = always full size.
     int grabCutPixels = 1 << 18;
+    // When the regions were found on a downscaled copy (FH's working image, or GrabCut's),
+    // give each full-size pixel near a border the neighbouring label of closest local colour
+    // (segment_borders.h) rather than its downscaled pixel's label.
+    bool refineBorders = true;
     int band = 0;  // GrabCut's uncertain band, pixels each side; 0 = the larger of 3 and the
                    // downscaling factor + 2
     // Segments smaller than this many (full-size) pixels are not refined by GrabCut (their
@@ -67,6 +72,7 @@ struct SegmentStats {
     int fhRegions = 0, regions = 0;
     long grabCutChanged = 0, grown = 0, merged = 0;
     long weakMerged = 0;      // merges across weak borders (final stage)
+    long borderRefined = 0;   // full-size pixels whose label the border refinement changed
     double threshold = 0;     // the k of the FH run used
     int fhTrials = 0;         // FH runs (1 when k was given)
     int fhCleanRegions = 0;   // FH's regions after slivers and small pieces are merged
