@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "meshcore/evaluate.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -40,30 +41,6 @@ std::vector<BoundaryEdge> boundaryEdges(const GradientMesh& m) {
     return e;
 }
 
-double segmentDistance(Vec2 p, Vec2 a, Vec2 b) {
-    const Vec2 ab = b - a;
-    const double len2 = ab.x * ab.x + ab.y * ab.y;
-    const double t = len2 > 0 ? std::clamp(((p.x - a.x) * ab.x + (p.y - a.y) * ab.y) / len2, 0.0, 1.0) : 0.0;
-    return norm(p - (a + t * ab));
-}
-
-// Largest distance from a point of `from` to the polyline `to`, and the index of that point.
-std::pair<double, size_t> directedDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
-    double worst = 0;
-    size_t at = 0;
-    for (size_t q = 0; q < from.size(); ++q) {
-        const Vec2& p = from[q];
-        double best = INFINITY;
-        for (size_t k = 0; k + 1 < to.size() && best > worst; ++k)
-            best = std::min(best, segmentDistance(p, to[k], to[k + 1]));
-        if (best > worst) {
-            worst = best;
-            at = q;
-        }
-    }
-    return {worst, at};
-}
-
 // Hausdorff distance between the edge's cubic and the outline under it, both sampled densely,
 // and where along the edge (local parameter 0–1) the worst point is.
 struct EdgeDeviation {
@@ -86,8 +63,8 @@ EdgeDeviation edgeDeviation(const GridBuilder& grid, const GradientMesh& m, cons
     std::vector<Vec2> curve(static_cast<size_t>(n) + 1), outline(static_cast<size_t>(4 * n) + 1);
     for (int k = 0; k <= n; ++k) curve[static_cast<size_t>(k)] = curveAt(double(k) / n);
     for (int k = 0; k <= 4 * n; ++k) outline[static_cast<size_t>(k)] = outlineAt(double(k) / (4 * n));
-    const auto [dc, ic] = directedDistance(curve, outline);
-    const auto [dout, io] = directedDistance(outline, curve);
+    const auto [dc, ic] = directedPolylineDistance(curve, outline);
+    const auto [dout, io] = directedPolylineDistance(outline, curve);
     // The outline's parameter is the map's, the one a knot is placed in.
     if (dout >= dc) return {dout, double(io) / (4 * n)};
     return {dc, double(ic) / n};

@@ -213,13 +213,7 @@ void measure(const GradientMesh& mesh, const RgbaImage& image, const Region& reg
             hermiteBasis(ps.s, hs);
             hermiteBasis(ps.t, ht);
             const PatchHermite& h = hermite[static_cast<size_t>(ps.patch)];
-            Vec3 c;
-            for (int a = 0; a < 2; ++a)
-                for (int b = 0; b < 2; ++b) {
-                    const HermiteCorner& k = h.corner[a][b];
-                    c = c + (hs[a] * ht[b]) * k.col + (hs[2 + a] * ht[b]) * k.colS +
-                        (hs[a] * ht[2 + b]) * k.colT;
-                }
+            const Vec3 c = hermiteColor(h, hs, ht);
             const Vec3 target = pixelColor(image, x, y);
             double pixelSum = 0;
             for (int ch = 0; ch < 3; ++ch) {

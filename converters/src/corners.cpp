@@ -6,6 +6,7 @@
 #include <string>
 
 #include "meshcore/error.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -13,7 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // Signed area of disk(0, r) ∩ triangle(0, a, b), with the sign of cross(a, b).
 double diskTriangleArea(Vec2 a, Vec2 b, double r) {

@@ -15,12 +15,12 @@
 #include "meshcore/error.h"
 #include "converters/unfold.h"
 #include "meshcore/evaluate.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
 namespace {
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // Sorted, with values closer than `tol` merged (the first kept).
 std::vector<double> uniqueSorted(std::vector<double> values, double tol) {
@@ -157,10 +157,8 @@ struct GridBuilder::Impl {
         double best = std::numeric_limits<double>::infinity();
         for (int e = 0; e < 3; ++e) {
             const Vec2 a = map.uv[tri[e]], b = map.uv[tri[(e + 1) % 3]];
-            const Vec2 ab = b - a;
-            const double len2 = dot(ab, ab);
-            double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-            const Vec2 q = a + s * ab;
+            const double s = closestSegmentParameter(p, a, b);
+            const Vec2 q = a + s * (b - a);
             const double d2 = dot(p - q, p - q);
             if (d2 < best) {
                 best = d2;
@@ -403,22 +401,6 @@ private:
     std::vector<double> limit_;  // per slot: the largest length its edges allow
 };
 
-// Largest distance from a point of `from` to the polyline `to`.
-double polylineDistance(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
-    double worst = 0;
-    for (const Vec2& p : from) {
-        double best = INFINITY;
-        for (size_t r = 0; r + 1 < to.size() && best > worst; ++r) {
-            const Vec2 ab = to[r + 1] - to[r];
-            const double len2 = dot(ab, ab);
-            const double f = len2 > 0 ? std::clamp(dot(p - to[r], ab) / len2, 0.0, 1.0) : 0.0;
-            best = std::min(best, norm(to[r] + f * ab - p));
-        }
-        worst = std::max(worst, best);
-    }
-    return worst;
-}
-
 // One side of the parameter rectangle as a chain of N boundary edges, fitted one-sided (see
 // GridOptions::outlineCover). Unknowns per node k: its derivative D_k (pixels per unit) and an
 // offset s_k along the outline's outward normal ν_k (held at 0 at the chain's ends, the
@@ -452,7 +434,8 @@ struct CoverChain {
             hermiteBasis(double(r) / steps[k], h);
             c.push_back(h[0] * a + h[1] * b + (delta[k] * h[2]) * da + (delta[k] * h[3]) * db);
         }
-        return std::max(polylineDistance(c, outline[k]), polylineDistance(outline[k], c));
+        return std::max(directedPolylineDistance(c, outline[k]).first,
+                        directedPolylineDistance(outline[k], c).first);
     }
 };
 
@@ -516,7 +499,7 @@ CoverChain fitCoverChain(const std::vector<Vec2>& P, const std::vector<double>& 
     auto deviation = [&](const std::vector<double>& v, int k) {
         std::vector<Vec2> c;
         for (int r = 0; r <= curveSteps[k]; ++r) c.push_back(curve(v, k, double(r) / curveSteps[k], nullptr));
-        return std::max(polylineDistance(c, line[k]), polylineDistance(line[k], c));
+        return std::max(directedPolylineDistance(c, line[k]).first, directedPolylineDistance(line[k], c).first);
     };
 
     std::vector<double> plain, bound;
@@ -618,10 +601,8 @@ CoverChain fitCoverChain(const std::vector<Vec2>& P, const std::vector<double>& 
                     const int M = static_cast<int>(line[k].size()) - 1, at = 4 * r;
                     const int from = std::max(0, at - M / 4), to = std::min(M, at + M / 4);
                     for (int s = from; s < to; ++s) {
-                        const Vec2 ab = line[k][s + 1] - line[k][s];
-                        const double len2 = dot(ab, ab);
-                        const double f = len2 > 0 ? std::clamp(dot(c - line[k][s], ab) / len2, 0.0, 1.0) : 0.0;
-                        const Vec2 p = line[k][s] + f * ab;
+                        const Vec2 a = line[k][s], b = line[k][s + 1];
+                        const Vec2 p = a + closestSegmentParameter(c, a, b) * (b - a);
                         if (norm(p - c) < best) best = norm(p - c), nearest = p;
                     }
                     if (dot(nrm, c - nearest) <= 0 || best < 1e-9) continue;
@@ -957,7 +938,7 @@ GradientMesh GridBuilder::build(const GridOptions& options) const {
                 for (int a = 0; a < n; ++a)
                     for (int b = 0; b < n; ++b) {
                         const PatchPoint p = evaluatePatch(h, (a + 0.5) / n, (b + 0.5) / n);
-                        if (p.posS.x * p.posT.y - p.posS.y * p.posT.x <= 0) return true;
+                        if (cross(p.posS, p.posT) <= 0) return true;
                     }
             return false;
         };

@@ -4,12 +4,12 @@
 #include <cmath>
 
 #include "converters/regions.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
 namespace {
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // Each side keeps only its largest 8-connected component; the pixels of its other components
 // go to the other side.

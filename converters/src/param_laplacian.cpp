@@ -4,6 +4,7 @@
 #include <string>
 
 #include "meshcore/error.h"
+#include "meshcore/geometry.h"
 
 namespace gm::detail {
 
@@ -29,12 +30,12 @@ WeightMatrix meanValueWeights(const TriMesh& mesh, const std::vector<Vec2>& pos)
             const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
             const Vec2 a = pos[j] - pos[i], b = pos[l] - pos[i];
             const double la = norm(a), lb = norm(b);
-            const double cross = a.x * b.y - a.y * b.x, d = dot(a, b);
+            const double sine = cross(a, b), d = dot(a, b);
             // tan(θ/2) = sin θ / (1 + cos θ), scaled by |a||b| on both sides.
             const double denom = la * lb + d;
-            if (!(cross > 0) || !(denom > 0) || !(la > 0) || !(lb > 0))
+            if (!(sine > 0) || !(denom > 0) || !(la > 0) || !(lb > 0))
                 throwDegenerate(mesh, pos, t, "mean-value weights");
-            const double tanHalf = cross / denom;
+            const double tanHalf = sine / denom;
             entries.emplace_back(i, j, tanHalf / la);
             entries.emplace_back(i, l, tanHalf / lb);
         }
@@ -54,9 +55,9 @@ WeightMatrix cotangentWeights(const TriMesh& mesh, const std::vector<Vec2>& pos,
         for (int k = 0; k < 3; ++k) {
             const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
             const Vec2 a = pos[j] - pos[i], b = pos[l] - pos[i];
-            const double cross = a.x * b.y - a.y * b.x;
-            if (!(cross > 0)) throwDegenerate(mesh, pos, t, "cotangent weights");
-            const double halfCot = 0.5 * dot(a, b) / cross;  // angle at i faces edge j–l
+            const double sine = cross(a, b);
+            if (!(sine > 0)) throwDegenerate(mesh, pos, t, "cotangent weights");
+            const double halfCot = 0.5 * dot(a, b) / sine;  // angle at i faces edge j–l
             entries.emplace_back(j, l, halfCot);
             entries.emplace_back(l, j, halfCot);
         }

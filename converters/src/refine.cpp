@@ -62,13 +62,7 @@ std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& i
             hermiteBasis(ps.s, hs);
             hermiteBasis(ps.t, ht);
             const PatchHermite& h = hermite[static_cast<size_t>(ps.patch)];
-            Vec3 c;
-            for (int a = 0; a < 2; ++a)
-                for (int b = 0; b < 2; ++b) {
-                    const HermiteCorner& k = h.corner[a][b];
-                    c = c + (hs[a] * ht[b]) * k.col + (hs[2 + a] * ht[b]) * k.colS +
-                        (hs[a] * ht[2 + b]) * k.colT;
-                }
+            const Vec3 c = hermiteColor(h, hs, ht);
             const float* target = image.at(x, y);
             const int bs = std::min(kBins - 1, static_cast<int>(ps.s * kBins));
             const int bt = std::min(kBins - 1, static_cast<int>(ps.t * kBins));

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "meshcore/error.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -53,7 +54,6 @@ std::vector<PixelComponent> labelComponents(int width, int height, const std::ve
 
 namespace {
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
 // A grid of pixel samples around one component: the component's bounding box grown by `pad`.
 struct LocalGrid {
@@ -156,14 +156,6 @@ std::vector<Polygon> marchingSquares(const LocalGrid& g, const std::vector<uint8
         loops.push_back(std::move(poly));
     }
     return loops;
-}
-
-double pointSegmentDistance(Vec2 p, Vec2 a, Vec2 b) {
-    const Vec2 ab = b - a;
-    const double len2 = dot(ab, ab);
-    double t = len2 > 0 ? dot(p - a, ab) / len2 : 0;
-    t = std::clamp(t, 0.0, 1.0);
-    return norm(p - (a + t * ab));
 }
 
 // Douglas–Peucker on a closed loop; marks kept points in `keep`.

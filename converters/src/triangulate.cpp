@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "meshcore/error.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -80,13 +81,6 @@ std::vector<int> appendResampledLoop(const std::vector<Vec2>& src, int start, do
         for (int q = 1; q < pieces; ++q) out.push_back(a + (static_cast<double>(q) / pieces) * (b - a));
     }
     return position;
-}
-
-double pointSegmentDistance(Vec2 p, Vec2 a, Vec2 b) {
-    const Vec2 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return norm(p - (a + t * ab));
 }
 
 // Error diffusion over the pixels of `allowed` (a subset of the region's mask).

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "meshcore/evaluate.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -35,7 +36,7 @@ bool patchFolds(const GradientMesh& mesh, int i, int j, const SampleBasis& basis
             const auto &ht = basis.h[b], &dht = basis.dh[b];
             const Vec2 ds = hermiteSum<Vec2>(p, dhs.data(), ht.data(), pos, posS, posT);
             const Vec2 dt = hermiteSum<Vec2>(p, hs.data(), dht.data(), pos, posS, posT);
-            if (ds.x * dt.y - ds.y * dt.x <= 0) return true;
+            if (cross(ds, dt) <= 0) return true;
         }
     }
     return false;

@@ -5,6 +5,7 @@
 
 #include "meshcore/bezier_patch.h"
 #include "meshcore/evaluate.h"
+#include "meshcore/geometry.h"
 #include "render_internal.h"
 
 namespace gm {
@@ -72,7 +73,7 @@ double colorGradientEstimate(const PatchHermite& h) {
             auto colT = [](const HermiteCorner& c) { return c.colT; };
             const Vec3 cs = hermiteSum<Vec3>(h, dhs, ht, col, colS, colT);
             const Vec3 ct = hermiteSum<Vec3>(h, hs, dht, col, colS, colT);
-            const double det = p.posS.x * p.posT.y - p.posS.y * p.posT.x;
+            const double det = cross(p.posS, p.posT);
             for (int k = 0; k < 3; ++k) {
                 // (c_s, c_t) · J⁻¹ with J = [posS posT].
                 const double gx = cs[k] * p.posT.y - ct[k] * p.posS.y;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "meshcore/evaluate.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -142,7 +143,7 @@ int countFoldedPatches(const GradientMesh& mesh, int samples) {
             for (int a = 0; a < samples && !fold; ++a)
                 for (int b = 0; b < samples && !fold; ++b) {
                     const PatchPoint p = evaluatePatch(h, (a + 0.5) / samples, (b + 0.5) / samples);
-                    fold = p.posS.x * p.posT.y - p.posS.y * p.posT.x <= 0;
+                    fold = cross(p.posS, p.posT) <= 0;
                 }
             folded += fold;
         }
@@ -158,7 +159,7 @@ double foldedArea(const GradientMesh& mesh, int samples) {
             for (int a = 0; a < samples; ++a)
                 for (int b = 0; b < samples; ++b) {
                     const PatchPoint p = evaluatePatch(h, (a + 0.5) / samples, (b + 0.5) / samples);
-                    const double jac = p.posS.x * p.posT.y - p.posS.y * p.posT.x;
+                    const double jac = cross(p.posS, p.posT);
                     if (jac < 0) area -= jac * weight;
                 }
         }

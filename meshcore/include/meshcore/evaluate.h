@@ -37,4 +37,11 @@ T hermiteSum(const PatchHermite& p, const double hs[4], const double ht[4], Get 
     return r;
 }
 
+// The colour of a patch at basis values hs (along s) and ht (along t).
+inline Vec3 hermiteColor(const PatchHermite& p, const double hs[4], const double ht[4]) {
+    return hermiteSum<Vec3>(
+        p, hs, ht, [](const HermiteCorner& c) { return c.col; },
+        [](const HermiteCorner& c) { return c.colS; }, [](const HermiteCorner& c) { return c.colT; });
+}
+
 }  // namespace gm
