@@ -255,96 +255,102 @@ void fitValues(GradientMesh& mesh, const SlotLayout& L, const Eigen::SparseMatri
     scatterColors(mesh, L, x);
 }
 
-// The least-squares colours of `mesh` (geometry fixed) given the render samples; `mesh` holds
-// the sampled solution on entry and the fitted one on return.
-void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
-               const std::vector<PixelSample>& samples, int meshIndex, double regularization,
-               ColorMode mode, const GradientMesh* guess = nullptr) {
-    if (mesh.colorModel == ColorModel::Bicubic) {
-        fitBicubicColors(mesh, image, region, samples, meshIndex, regularization);
-        return;
-    }
-    const SlotLayout L(mesh);
-    const int C = mesh.columns(), P = mesh.patchCount();
-    std::vector<PatchSlots> slots(static_cast<size_t>(P));
-    for (int j = 0; j < mesh.rows(); ++j)
-        for (int i = 0; i < C; ++i)
-            slots[static_cast<size_t>(j) * C + i] = patchSlots(mesh, L, i, j);
+// Region pixels grouped by patch (a counting sort): the pixels of patch k are
+// order[start[k] .. start[k+1]).
+struct PixelsByPatch {
+    std::vector<int> start, order;
+    int count(int patch) const { return start[patch + 1] - start[patch]; }
+};
 
-    // Region pixels grouped by patch (counting sort), so that each patch's normal equations
-    // (12×12, shared by the three channels, and 12×3) are one dense product.
-    std::vector<int> start(static_cast<size_t>(P) + 1, 0);
+PixelsByPatch groupPixelsByPatch(const RgbaImage& image, const Region& region,
+                                 const std::vector<PixelSample>& samples, int meshIndex,
+                                 int patches) {
+    PixelsByPatch g;
+    g.start.assign(static_cast<size_t>(patches) + 1, 0);
     const size_t nPix = static_cast<size_t>(image.width) * image.height;
     auto usable = [&](size_t p) {
         return region.mask[p] && samples[p].mesh == meshIndex && samples[p].patch >= 0;
     };
     for (size_t p = 0; p < nPix; ++p)
-        if (usable(p)) ++start[static_cast<size_t>(samples[p].patch) + 1];
-    for (int p = 0; p < P; ++p) start[p + 1] += start[p];
-    std::vector<int> order(static_cast<size_t>(start[P]));
-    {
-        std::vector<int> fill(start.begin(), start.end() - 1);
-        for (size_t p = 0; p < nPix; ++p)
-            if (usable(p)) order[fill[samples[p].patch]++] = static_cast<int>(p);
-    }
-    // The normal equations' sparsity: two unknowns interact when a patch with pixels uses both;
-    // every unknown also has its diagonal (the pull below). Built as compressed columns directly
-    // (the matrix is symmetric, so a column lists its row's neighbours too): one pass for the
-    // column sizes, one to fill, a sort per column; no triplet list.
-    const int n = L.total();
-    std::vector<int> patchIdx(static_cast<size_t>(P) * 12);
-    std::vector<int> colStart(static_cast<size_t>(n) + 1, 0);
-    for (int patch = 0; patch < P; ++patch) {
-        int* idx = &patchIdx[static_cast<size_t>(patch) * 12];
-        slotIndices(slots[static_cast<size_t>(patch)], idx);
-        if (start[patch + 1] == start[patch]) continue;
-        for (int r = 0; r < 12; ++r) colStart[static_cast<size_t>(idx[r]) + 1] += 12;
-    }
-    for (int k = 0; k < n; ++k) colStart[k + 1] += colStart[k] + 1;
-    std::vector<int> rowsOf(static_cast<size_t>(colStart[n]));
-    {
-        std::vector<int> fill(colStart.begin(), colStart.end() - 1);
-        for (int k = 0; k < n; ++k) rowsOf[fill[k]++] = k;
-        for (int patch = 0; patch < P; ++patch) {
-            if (start[patch + 1] == start[patch]) continue;
-            const int* idx = &patchIdx[static_cast<size_t>(patch) * 12];
-            for (int r = 0; r < 12; ++r)
-                for (int q = 0; q < 12; ++q) rowsOf[fill[idx[r]]++] = idx[q];
-        }
-    }
-    Eigen::SparseMatrix<double> A(n, n);
-    {
-        std::vector<int> length(static_cast<size_t>(n));
-        size_t nnz = 0;
-        for (int k = 0; k < n; ++k) {
-            auto b = rowsOf.begin() + colStart[k], e = rowsOf.begin() + colStart[k + 1];
-            std::sort(b, e);
-            length[k] = static_cast<int>(std::unique(b, e) - b);
-            nnz += static_cast<size_t>(length[k]);
-        }
-        A.resizeNonZeros(static_cast<Eigen::Index>(nnz));
-        int* outer = A.outerIndexPtr();
-        int* inner = A.innerIndexPtr();
-        outer[0] = 0;
-        for (int k = 0; k < n; ++k) {
-            inner = std::copy_n(rowsOf.begin() + colStart[k], length[k], inner);
-            outer[k + 1] = outer[k] + length[k];
-        }
-        std::fill(A.valuePtr(), A.valuePtr() + nnz, 0.0);
-    }
+        if (usable(p)) ++g.start[static_cast<size_t>(samples[p].patch) + 1];
+    for (int p = 0; p < patches; ++p) g.start[p + 1] += g.start[p];
+    g.order.resize(static_cast<size_t>(g.start[patches]));
+    std::vector<int> fill(g.start.begin(), g.start.end() - 1);
+    for (size_t p = 0; p < nPix; ++p)
+        if (usable(p)) g.order[fill[samples[p].patch]++] = static_cast<int>(p);
+    return g;
+}
+
+// The normal equations A·x = rhs of the colour fit (one right-hand side per channel), with
+// A's sparsity fixed before any value is added.
+struct NormalEquations {
+    Eigen::SparseMatrix<double> A;
+    Eigen::MatrixXd rhs;
+
     // The entry (row, col) of A, which the pattern holds.
-    auto entry = [&](int row, int col) -> double& {
+    double& entry(int row, int col) {
         const int* b = A.innerIndexPtr() + A.outerIndexPtr()[col];
         const int* e = A.innerIndexPtr() + A.outerIndexPtr()[col + 1];
         return A.valuePtr()[std::lower_bound(b, e, row) - A.innerIndexPtr()];
-    };
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
+    }
+};
+
+// The n×n pattern in which two unknowns interact when a patch with pixels uses both (the 12
+// unknowns of patch k are patchIdx[12k .. 12k+12)); every unknown also has its diagonal (the
+// regularisation's pull). Built as compressed columns directly (the matrix is symmetric, so a
+// column lists its row's neighbours too): one pass for the column sizes, one to fill, a sort
+// per column; no triplet list. Values are zero.
+Eigen::SparseMatrix<double> normalPattern(int n, const std::vector<int>& patchIdx,
+                                          const PixelsByPatch& pixels) {
+    const int P = static_cast<int>(patchIdx.size() / 12);
+    std::vector<int> colStart(static_cast<size_t>(n) + 1, 0);
+    for (int patch = 0; patch < P; ++patch) {
+        if (pixels.count(patch) == 0) continue;
+        for (int r = 0; r < 12; ++r) colStart[static_cast<size_t>(patchIdx[12 * patch + r]) + 1] += 12;
+    }
+    for (int k = 0; k < n; ++k) colStart[k + 1] += colStart[k] + 1;
+    std::vector<int> rowsOf(static_cast<size_t>(colStart[n]));
+    std::vector<int> fill(colStart.begin(), colStart.end() - 1);
+    for (int k = 0; k < n; ++k) rowsOf[fill[k]++] = k;
+    for (int patch = 0; patch < P; ++patch) {
+        if (pixels.count(patch) == 0) continue;
+        const int* idx = &patchIdx[static_cast<size_t>(patch) * 12];
+        for (int r = 0; r < 12; ++r)
+            for (int q = 0; q < 12; ++q) rowsOf[fill[idx[r]]++] = idx[q];
+    }
+    std::vector<int> length(static_cast<size_t>(n));
+    size_t nnz = 0;
+    for (int k = 0; k < n; ++k) {
+        auto b = rowsOf.begin() + colStart[k], e = rowsOf.begin() + colStart[k + 1];
+        std::sort(b, e);
+        length[k] = static_cast<int>(std::unique(b, e) - b);
+        nnz += static_cast<size_t>(length[k]);
+    }
+    Eigen::SparseMatrix<double> A(n, n);
+    A.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+    int* outer = A.outerIndexPtr();
+    int* inner = A.innerIndexPtr();
+    outer[0] = 0;
+    for (int k = 0; k < n; ++k) {
+        inner = std::copy_n(rowsOf.begin() + colStart[k], length[k], inner);
+        outer[k + 1] = outer[k] + length[k];
+    }
+    std::fill(A.valuePtr(), A.valuePtr() + nnz, 0.0);
+    return A;
+}
+
+// Adds each patch's pixels to the normal equations: per patch one dense 12×12 product (shared
+// by the three channels) and one 12×3.
+void addPatchPixels(NormalEquations& eq, const GradientMesh& mesh, const RgbaImage& image,
+                    const std::vector<PixelSample>& samples, const PixelsByPatch& pixels,
+                    const std::vector<PatchSlots>& slots, const std::vector<int>& patchIdx) {
+    const int C = mesh.columns(), P = mesh.patchCount();
     Eigen::Matrix<double, Eigen::Dynamic, 12> Ap;
     Eigen::Matrix<double, Eigen::Dynamic, 3> Bp;
     Eigen::Matrix<double, 12, 12> M;
     Eigen::Matrix<double, 12, 3> B;
     for (int patch = 0; patch < P; ++patch) {
-        const int count = start[patch + 1] - start[patch];
+        const int count = pixels.count(patch);
         if (count == 0) continue;
         const int pi = patch % C, pj = patch / C;
         const double du = mesh.u[pi + 1] - mesh.u[pi], dv = mesh.v[pj + 1] - mesh.v[pj];
@@ -352,7 +358,7 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
         Ap.resize(count, 12);
         Bp.resize(count, 3);
         for (int k = 0; k < count; ++k) {
-            const int p = order[static_cast<size_t>(start[patch] + k)];
+            const int p = pixels.order[static_cast<size_t>(pixels.start[patch] + k)];
             const PixelSample& sample = samples[static_cast<size_t>(p)];
             double c[12];
             pixelCoefficients(sample.s, sample.t, du, dv, ps, c);
@@ -364,37 +370,84 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
         B.noalias() = Ap.transpose() * Bp;
         const int* idx = &patchIdx[static_cast<size_t>(patch) * 12];
         for (int r = 0; r < 12; ++r) {
-            for (int q = 0; q < 12; ++q) entry(idx[r], idx[q]) += M(r, q);
-            for (int ch = 0; ch < 3; ++ch) rhs(idx[r], ch) += B(r, ch);
+            for (int q = 0; q < 12; ++q) eq.entry(idx[r], idx[q]) += M(r, q);
+            for (int ch = 0; ch < 3; ++ch) eq.rhs(idx[r], ch) += B(r, ch);
         }
     }
-    // Tikhonov toward the sampled solution, scaled per kind of unknown by its mean pixel weight.
-    Eigen::MatrixXd x0;
-    gatherColors(mesh, L, x0);
-    const int kindStart[4] = {0, L.uOffset(), L.vOffset(), n};
+}
+
+// Tikhonov toward x0 (the sampled solution), scaled per kind of unknown (values, u-slopes,
+// v-slopes) by its mean pixel weight.
+void regularizeTowards(NormalEquations& eq, const SlotLayout& L, const Eigen::MatrixXd& x0,
+                       double regularization) {
+    const int kindStart[4] = {0, L.uOffset(), L.vOffset(), L.total()};
     for (int kind = 0; kind < 3; ++kind) {
         double sum = 0;
         int used = 0;
         for (int k = kindStart[kind]; k < kindStart[kind + 1]; ++k)
-            if (const double d = entry(k, k); d > 0) {
+            if (const double d = eq.entry(k, k); d > 0) {
                 sum += d;
                 ++used;
             }
         const double lambda = std::max(regularization, 1e-12) * (used > 0 ? sum / used : 1.0);
         for (int k = kindStart[kind]; k < kindStart[kind + 1]; ++k) {
-            entry(k, k) += lambda;
-            for (int ch = 0; ch < 3; ++ch) rhs(k, ch) += lambda * x0(k, ch);
+            eq.entry(k, k) += lambda;
+            for (int ch = 0; ch < 3; ++ch) eq.rhs(k, ch) += lambda * x0(k, ch);
         }
     }
-    if (mode == ColorMode::FitValues) {
-        fitValues(mesh, L, A, rhs);
+}
+
+// Solves the equations by conjugate gradients started at `from` (a relative residual of 1e-5
+// is far below what moves E), falling back on a direct factorisation, which fills in and is
+// slower on large meshes. False when neither gives a finite solution.
+bool solveNormalEquations(const NormalEquations& eq, const Eigen::MatrixXd& from,
+                          Eigen::MatrixXd& x) {
+    const Eigen::Index n = eq.A.rows();
+    x.resize(n, 3);
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg(eq.A);
+    cg.setTolerance(1e-5);
+    cg.setMaxIterations(std::max<Eigen::Index>(1000, n));
+    bool converged = cg.info() == Eigen::Success;
+    for (int ch = 0; ch < 3 && converged; ++ch) {
+        x.col(ch) = cg.solveWithGuess(eq.rhs.col(ch), from.col(ch));
+        converged = cg.info() == Eigen::Success;
+    }
+    if (!converged) {
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(eq.A);
+        if (ldlt.info() != Eigen::Success) return false;
+        x = ldlt.solve(eq.rhs);
+    }
+    return x.allFinite();
+}
+
+// The least-squares colours of `mesh` (geometry fixed) given the render samples; `mesh` holds
+// the sampled solution on entry and the fitted one on return (kept when the solve fails).
+void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
+               const std::vector<PixelSample>& samples, int meshIndex, double regularization,
+               ColorMode mode, const GradientMesh* guess = nullptr) {
+    if (mesh.colorModel == ColorModel::Bicubic) {
+        fitBicubicColors(mesh, image, region, samples, meshIndex, regularization);
         return;
     }
-    // Conjugate gradients warm-started from the sampled solution: measured at 512² against
-    // SimplicialLDLT, as fast below ~1,000 unknowns and 3–5x faster above (the factor fills
-    // in); a direct solve remains the fallback. A relative residual of 1e-5 is plenty: against
-    // 1e-8, E moved by at most 0.002 on the whole-image samples and they converted ~15% faster.
-    Eigen::MatrixXd x(n, 3);
+    const SlotLayout L(mesh);
+    const int C = mesh.columns(), P = mesh.patchCount();
+    std::vector<PatchSlots> slots(static_cast<size_t>(P));
+    std::vector<int> patchIdx(static_cast<size_t>(P) * 12);
+    for (int patch = 0; patch < P; ++patch) {
+        slots[static_cast<size_t>(patch)] = patchSlots(mesh, L, patch % C, patch / C);
+        slotIndices(slots[static_cast<size_t>(patch)], &patchIdx[static_cast<size_t>(patch) * 12]);
+    }
+    const PixelsByPatch pixels = groupPixelsByPatch(image, region, samples, meshIndex, P);
+    NormalEquations eq{normalPattern(L.total(), patchIdx, pixels),
+                       Eigen::MatrixXd::Zero(L.total(), 3)};
+    addPatchPixels(eq, mesh, image, samples, pixels, slots, patchIdx);
+    Eigen::MatrixXd x0;
+    gatherColors(mesh, L, x0);
+    regularizeTowards(eq, L, x0, regularization);
+    if (mode == ColorMode::FitValues) {
+        fitValues(mesh, L, eq.A, eq.rhs);
+        return;
+    }
     // From the guess when there is one (a refit: its colours are near the answer), else from
     // the sampled solution.
     Eigen::MatrixXd from = x0;
@@ -402,21 +455,8 @@ void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
         gatherColors(*guess, L, from);
         if (!from.allFinite()) from = x0;
     }
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg(A);
-    cg.setTolerance(1e-5);
-    cg.setMaxIterations(std::max(1000, n));
-    bool converged = cg.info() == Eigen::Success;
-    for (int ch = 0; ch < 3 && converged; ++ch) {
-        x.col(ch) = cg.solveWithGuess(rhs.col(ch), from.col(ch));
-        converged = cg.info() == Eigen::Success;
-    }
-    if (!converged) {
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
-        if (ldlt.info() != Eigen::Success) return;  // keep the sampled solution
-        x = ldlt.solve(rhs);
-    }
-    if (!x.allFinite()) return;
-    scatterColors(mesh, L, x);
+    Eigen::MatrixXd x;
+    if (solveNormalEquations(eq, from, x)) scatterColors(mesh, L, x);
 }
 
 }  // namespace
