@@ -52,14 +52,23 @@ RegionReport mergePartReports(const std::vector<RegionReport>& parts, const Regi
     return r;
 }
 
+// What became of one region of a whole image.
+enum class RegionFate {
+    Failed,          // no mesh: left to the base mesh
+    Whole,           // one conversion of the region as it is
+    HolesFilled,     // its holes filled (the slit map failed on them)
+    ThinPartsApart,  // its core and its thin parts as meshes of their own
+    SplitAtNecks,    // cut at its narrowest necks, each side converted on its own
+};
+
 // How one region of a whole image was converted.
 struct RegionOutcome {
     std::vector<GradientMesh> meshes;
     RegionReport report;
     std::string fallback;  // "" when converted whole at the first try
-    int how = 0;           // 0 failed (left to the base mesh), 1 whole, 2 holes filled,
-                           // 3 core + thin parts apart, 4 split at necks
-    std::string sideNotes;  // how 4: what the sides' own conversions did
+    RegionFate fate = RegionFate::Failed;
+    bool converted() const { return fate != RegionFate::Failed; }
+    std::string sideNotes;  // SplitAtNecks: what the sides' own conversions did
     double spill = 0;       // --total-patches: spillSse of the meshes
 };
 
@@ -91,7 +100,7 @@ ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
     return co;
 }
 
-// One region whole, reaching under `under` (the regions drawn later): how 1, or how 0 with the
+// One region whole, reaching under `under` (the regions drawn later): Whole, or Failed with the
 // reason in `fallback`.
 RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
                            const std::vector<uint8_t>& under, const ConvertOptions& co,
@@ -100,7 +109,7 @@ RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
     try {
         out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
                                     out.report, cache)};
-        out.how = 1;
+        out.fate = RegionFate::Whole;
     } catch (const Error& e) {
         out.fallback = e.reason();
     } catch (const std::bad_alloc&) {
@@ -112,7 +121,7 @@ RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
 }
 
 // After convertWhole failed (`out`, its reason in out.fallback): the region with its holes
-// filled, then as its core plus its thin parts apart; else nothing (how 0).
+// filled, then as its core plus its thin parts apart; else nothing (Failed).
 RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
                                const std::vector<uint8_t>& under, const ConvertOptions& co,
                                const SegmentConvertOptions& options, RegionOutcome out) {
@@ -124,7 +133,7 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
             out.meshes = {convertRegion(
                 image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
                 co, out.report)};
-            out.how = 2;
+            out.fate = RegionFate::HolesFilled;
             why = "holes filled (" + why + ")";
             return out;
         } catch (const std::bad_alloc&) {
@@ -145,7 +154,7 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
         if (rs.empty()) throw Error("nothing is left without its thin parts");
         Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
         out.meshes = {convertRegion(image, trimmed, co, out.report)};
-        out.how = 3;
+        out.fate = RegionFate::ThinPartsApart;
         std::vector<uint8_t> rest(own.mask.size());
         PartsBeneath beneath;
         beneath.under = under;
@@ -188,8 +197,8 @@ double foldedAreaOf(const std::vector<GradientMesh>& meshes) {
 }
 
 // The region cut at `cut`, each side's pieces converted by convertSegmentRegion (side 1 drawn
-// first, reaching under side 2), sharing the region's budget co.maxPatches by their pixels; how
-// 4, or how 0 when nothing converted. `complete`: every piece converted.
+// first, reaching under side 2), sharing the region's budget co.maxPatches by their pixels;
+// SplitAtNecks, or Failed when nothing converted. `complete`: every piece converted.
 RegionOutcome convertSides(const RgbaImage& image, const Region& own,
                            const std::vector<uint8_t>& under, const ConvertOptions& co,
                            const SegmentConvertOptions& options, int depth, const NeckCut& cut,
@@ -221,7 +230,7 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
                                                 std::max(1, own.pixelCount))));
             RegionOutcome sub = convertSegmentRegion(image, piece, beneath, share, options, depth + 1);
             for (GradientMesh& m : sub.meshes) split.meshes.push_back(std::move(m));
-            if (sub.how == 0) {
+            if (!sub.converted()) {
                 sub.report.part = "left uncovered";
                 complete = false;
             }
@@ -235,7 +244,7 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
     }
     split.report = mergePartReports(parts, own);
     split.report.part = "split at a neck into " + std::to_string(parts.size());
-    split.how = 4;
+    split.fate = RegionFate::SplitAtNecks;
     char buf[120];
     std::snprintf(buf, sizeof buf, "split at a neck (%.0f px chord at (%.0f, %.0f)-(%.0f, %.0f))",
                   norm(cut.b - cut.a), cut.a.x, cut.a.y, cut.b.x, cut.b.y);
@@ -263,10 +272,10 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
     bool earlier = false;
     for (size_t p = 0; p < under.size() && !earlier; ++p) earlier = !own.mask[p] && !under[p];
     const double folded =
-        mayCut && earlier && out.how != 0 && options.foldedArea > 0 ? foldedAreaOf(out.meshes) : 0;
+        mayCut && earlier && out.converted() && options.foldedArea > 0 ? foldedAreaOf(out.meshes) : 0;
     const bool folds = folded > options.foldedArea;
     std::optional<NeckCut> cut;
-    if (mayCut && (out.how == 0 || out.report.error.meanAbs > target || folds))
+    if (mayCut && (!out.converted() || out.report.error.meanAbs > target || folds))
         cut = findNeck(own, options.neck);
     RegionOutcome split;
     bool complete = false;
@@ -275,16 +284,16 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
         const double e = whole.report.error.meanAbs;
         const bool covers =
             split.report.error.uncovered <= whole.report.error.uncovered + 0.001;
-        const double splitFolded = folds && split.how != 0 ? foldedAreaOf(split.meshes) : 0;
-        const bool unfolds = folds && split.how != 0 && covers &&
+        const double splitFolded = folds && split.converted() ? foldedAreaOf(split.meshes) : 0;
+        const bool unfolds = folds && split.converted() && covers &&
                              split.report.error.meanAbs <= 1.1 * e && splitFolded <= folded / 2;
         const bool better =
-            split.how != 0 &&
-            (whole.how == 0 || (split.report.error.meanAbs < 0.95 * e && covers) || unfolds);
+            split.converted() &&
+            (!whole.converted() || (split.report.error.meanAbs < 0.95 * e && covers) || unfolds);
         if (!better) return std::move(whole);
         char buf[120];
         std::snprintf(buf, sizeof buf, ": E %.2f -> %.2f", e, split.report.error.meanAbs);
-        if (whole.how != 0) split.fallback += buf;
+        if (whole.converted()) split.fallback += buf;
         if (unfolds) {
             std::snprintf(buf, sizeof buf, ", folded area %.0f -> %.0f px", folded, splitFolded);
             split.fallback += buf;
@@ -293,7 +302,7 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
         if (!whole.fallback.empty()) split.fallback += "; whole: " + whole.fallback;
         return std::move(split);
     };
-    if (out.how != 0) return take(out);
+    if (out.converted()) return take(out);
     if (complete) {
         split.fallback += split.sideNotes + "; whole: " + out.fallback;
         return split;
@@ -399,20 +408,13 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     return at;
 }
 
-Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
-                          const std::string& imageName, SegmentConvertReport* report) {
-    SegmentConvertReport local;
-    SegmentConvertReport& rep = report ? *report : local;
-    rep = SegmentConvertReport{};
-    ConvertReport& cr = rep.convert;
-    cr.maskSource = "segmentation";
-    cr.width = image.width;
-    cr.height = image.height;
-    if (image.width <= 0 || image.height <= 0) throw Error("the image has no pixels", imageName);
-    const auto tStart = Clock::now();
+namespace {
 
+// The image's regions as the segmentation draws them; times and figures into rep.
+std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertOptions& options,
+                                   const std::string& imageName, Segmentation& seg,
+                                   SegmentConvertReport& rep) {
     auto t0 = Clock::now();
-    Segmentation seg;
     try {
         SegmentOptions so = options.segment;
         if (so.threads == 0) so.threads = options.threads;
@@ -428,148 +430,170 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     RegionOptions ro;
     ro.minArea = 1;
     ro.minHole = options.convert.minHole;
-    const std::vector<Region> regions = extractRegionsFromLabels(seg.width, seg.height, seg.labels, ro);
+    std::vector<Region> regions = extractRegionsFromLabels(seg.width, seg.height, seg.labels, ro);
     rep.regionsSeconds = since(t0);
-    cr.seconds.regions = rep.segmentSeconds + rep.regionsSeconds;
+    rep.convert.seconds.regions = rep.segmentSeconds + rep.regionsSeconds;
+    return regions;
+}
 
-    // Regions in parallel, largest first; each region's fit renders on one thread then.
-    const int hw = std::max(1u, std::thread::hardware_concurrency());
-    const int workers = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
-                                                  static_cast<int>(regions.size())));
-    ConvertOptions coAll = options.convert;
-    if (workers > 1) coAll.threads = 1;
-    const size_t n = regions.size();
-    std::vector<std::vector<GradientMesh>> meshes(n);  // a region in parts has several
-    std::vector<RegionReport> reports(n);
-    std::vector<std::string> fallbacks(n);
-    std::vector<char> ok(n, 0);
-    // Drawn in this order (largest first): a region reaches under the later ones only, so
-    // each pixel keeps the colour of its own region and seams show the region beneath.
-    std::vector<int> drawnAt(static_cast<size_t>(image.width) * image.height, -1);
-    for (size_t k = 0; k < n; ++k)
-        for (size_t p = 0; p < drawnAt.size(); ++p)
-            if (regions[k].mask[p] && drawnAt[p] < 0) drawnAt[p] = static_cast<int>(k);
-    auto later = [&](size_t k) {
-        std::vector<uint8_t> m(drawnAt.size());
-        for (size_t p = 0; p < m.size(); ++p) m[p] = drawnAt[p] > static_cast<int>(k);
-        return m;
-    };
-    // Converts region job[w].first with patch budget job[w].second into outcomes[w], the jobs
-    // in parallel.
-    // A region converted at several budgets (--total-patches) computes its maps once.
-    std::vector<RegionMapCache> caches(n);
-    auto convertJobs = [&](const std::vector<std::pair<size_t, int>>& jobs,
-                           std::vector<RegionOutcome>& outcomes) {
+// Converts regions of a whole image, several at once. Regions are drawn in their order
+// (largest first): a region reaches under the later ones only, so each pixel keeps the colour
+// of its own region and seams show the region beneath.
+class RegionConverter {
+public:
+    RegionConverter(const RgbaImage& image, const std::vector<Region>& regions,
+                    const SegmentConvertOptions& options)
+        : image_(image), regions_(regions), options_(options), caches_(regions.size()) {
+        // Each region's fit renders on one thread when regions run in parallel.
+        const int hw = std::max(1u, std::thread::hardware_concurrency());
+        workers_ = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
+                                             static_cast<int>(regions.size())));
+        convert_ = options.convert;
+        if (workers_ > 1) convert_.threads = 1;
+        drawnAt_.assign(static_cast<size_t>(image.width) * image.height, -1);
+        for (size_t k = 0; k < regions.size(); ++k)
+            for (size_t p = 0; p < drawnAt_.size(); ++p)
+                if (regions[k].mask[p] && drawnAt_[p] < 0) drawnAt_[p] = static_cast<int>(k);
+    }
+
+    int maxPatches() const { return convert_.maxPatches; }
+
+    // Converts region jobs[w].first with patch budget jobs[w].second into outcomes[w], the
+    // jobs in parallel. With --total-patches a region converted at several budgets computes
+    // its maps once, and each outcome's spill is measured.
+    void run(const std::vector<std::pair<size_t, int>>& jobs,
+             std::vector<RegionOutcome>& outcomes) {
         outcomes.resize(jobs.size());
-        auto convertJob = [&](int job, int) {
+        const bool budgeted = options_.totalPatches > 0;
+        parallelFor(static_cast<int>(jobs.size()), workers_, [&](int job, int) {
             const size_t w = static_cast<size_t>(job);
-            ConvertOptions co = coAll;
+            ConvertOptions co = convert_;
             co.maxPatches = jobs[w].second;
             const size_t k = jobs[w].first;
-            outcomes[w] = convertSegmentRegion(image, regions[k], later(k), co, options, 0,
-                                               options.totalPatches > 0 ? &caches[k] : nullptr);
-            if (options.totalPatches > 0 && outcomes[w].how != 0)
-                outcomes[w].spill = spillSse(outcomes[w].meshes, image, drawnAt, static_cast<int>(k));
-        };
-        parallelFor(static_cast<int>(jobs.size()), workers, convertJob);
-    };
-    t0 = Clock::now();
-    std::vector<RegionOutcome> outcomes;
-    std::vector<std::pair<size_t, int>> jobs;
-    if (options.totalPatches > 0 && n > 0) {
-        // Every region at the budget ladder up to a generous budget, to measure its error
-        // curve; then the budget goes where it lowers the summed error most.
-        long pixels = 0;
-        for (const Region& r : regions) pixels += r.pixelCount;
-        for (size_t k = 0; k < n; ++k) {
-            const double share = options.topBudgetShare * options.totalPatches *
-                                 double(regions[k].pixelCount) / double(std::max(1L, pixels));
-            const double floor = options.topBudgetShare * options.totalPatches / double(n);
-            const double want = std::max(share, floor);
-            for (int i = 0;; ++i) {
-                const int b = std::min(budgetRung(i), coAll.maxPatches);
-                jobs.push_back({k, b});
-                if (b >= want || b == coAll.maxPatches) break;
-            }
-        }
-        // Largest budgets first: the slowest jobs start first.
-        std::stable_sort(jobs.begin(), jobs.end(),
-                         [](const auto& x, const auto& y) { return x.second > y.second; });
-        convertJobs(jobs, outcomes);
-        std::vector<std::vector<size_t>> tried(n);  // per region: its jobs
-        for (size_t w = 0; w < jobs.size(); ++w) tried[jobs[w].first].push_back(w);
-        std::vector<std::vector<RdPoint>> curves(n);
-        for (size_t k = 0; k < n; ++k) {
-            std::vector<RdPoint> pts;
-            for (size_t w : tried[k]) {
-                const RegionOutcome& o = outcomes[w];
-                if (o.how == 0) continue;
-                const double covered = double(o.report.error.pixels) * (1 - o.report.error.uncovered);
-                // Its own pixels' error and what it does to the regions beneath: a mesh that
-                // folds over a neighbour looks good on its own (HappyFish at 80 patches in all
-                // took one, 0.6 dB worse over the image than at 70).
-                pts.push_back({double(o.report.patches),
-                               o.report.error.rmse * o.report.error.rmse * covered + o.spill, w});
-            }
-            if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
-            curves[k] = paretoFront(std::move(pts));
-        }
-        const std::vector<size_t> pick = allotPatches(curves, options.totalPatches);
-        std::vector<RegionOutcome> chosen(n);
-        for (size_t k = 0; k < n; ++k) {
-            const size_t w = curves[k][pick[k]].job;
-            rep.keptSpill.push_back(outcomes[w].how ? outcomes[w].spill : 0);
-            chosen[k] = std::move(outcomes[w]);
-            int most = 0;
-            for (size_t v : tried[k]) most = std::max(most, jobs[v].second);
-            rep.largestBudget.push_back(most);
-            rep.keptBudget.push_back(jobs[w].second);
-        }
-        rep.conversions = static_cast<int>(jobs.size());
-        outcomes = std::move(chosen);
-    } else {
-        for (size_t k = 0; k < n; ++k) jobs.push_back({k, coAll.maxPatches});
-        convertJobs(jobs, outcomes);
+            outcomes[w] = convertSegmentRegion(image_, regions_[k], drawnLater(k), co, options_, 0,
+                                               budgeted ? &caches_[k] : nullptr);
+            if (budgeted && outcomes[w].converted())
+                outcomes[w].spill =
+                    spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
+        });
     }
-    for (size_t k = 0; k < n; ++k) {
-        meshes[k] = std::move(outcomes[k].meshes);
-        reports[k] = std::move(outcomes[k].report);
-        fallbacks[k] = std::move(outcomes[k].fallback);
-        ok[k] = static_cast<char>(outcomes[k].how);
-    }
-    rep.convertSeconds = since(t0);
 
+private:
+    // Pixels of the regions drawn after region k.
+    std::vector<uint8_t> drawnLater(size_t k) const {
+        std::vector<uint8_t> m(drawnAt_.size());
+        for (size_t p = 0; p < m.size(); ++p) m[p] = drawnAt_[p] > static_cast<int>(k);
+        return m;
+    }
+
+    const RgbaImage& image_;
+    const std::vector<Region>& regions_;
+    const SegmentConvertOptions& options_;
+    ConvertOptions convert_;
+    int workers_ = 1;
+    std::vector<int> drawnAt_;  // per pixel: the first region (in drawing order) holding it
+    std::vector<RegionMapCache> caches_;
+};
+
+// --total-patches: every region at the budget ladder up to a generous budget, to measure its
+// error curve; then the budget goes where it lowers the summed error most. One outcome per
+// region.
+std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
+                                              const std::vector<Region>& regions,
+                                              const SegmentConvertOptions& options,
+                                              SegmentConvertReport& rep) {
+    const size_t n = regions.size();
+    std::vector<std::pair<size_t, int>> jobs;
+    long pixels = 0;
+    for (const Region& r : regions) pixels += r.pixelCount;
+    for (size_t k = 0; k < n; ++k) {
+        const double share = options.topBudgetShare * options.totalPatches *
+                             double(regions[k].pixelCount) / double(std::max(1L, pixels));
+        const double floor = options.topBudgetShare * options.totalPatches / double(n);
+        const double want = std::max(share, floor);
+        for (int i = 0;; ++i) {
+            const int b = std::min(budgetRung(i), converter.maxPatches());
+            jobs.push_back({k, b});
+            if (b >= want || b == converter.maxPatches()) break;
+        }
+    }
+    // Largest budgets first: the slowest jobs start first.
+    std::stable_sort(jobs.begin(), jobs.end(),
+                     [](const auto& x, const auto& y) { return x.second > y.second; });
+    std::vector<RegionOutcome> outcomes;
+    converter.run(jobs, outcomes);
+    std::vector<std::vector<size_t>> tried(n);  // per region: its jobs
+    for (size_t w = 0; w < jobs.size(); ++w) tried[jobs[w].first].push_back(w);
+    std::vector<std::vector<RdPoint>> curves(n);
+    for (size_t k = 0; k < n; ++k) {
+        std::vector<RdPoint> pts;
+        for (size_t w : tried[k]) {
+            const RegionOutcome& o = outcomes[w];
+            if (!o.converted()) continue;
+            const double covered = double(o.report.error.pixels) * (1 - o.report.error.uncovered);
+            // Its own pixels' error and what it does to the regions beneath: a mesh that folds
+            // over a neighbour looks good on its own.
+            pts.push_back({double(o.report.patches),
+                           o.report.error.rmse * o.report.error.rmse * covered + o.spill, w});
+        }
+        if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
+        curves[k] = paretoFront(std::move(pts));
+    }
+    const std::vector<size_t> pick = allotPatches(curves, options.totalPatches);
+    std::vector<RegionOutcome> chosen(n);
+    for (size_t k = 0; k < n; ++k) {
+        const size_t w = curves[k][pick[k]].job;
+        rep.keptSpill.push_back(outcomes[w].converted() ? outcomes[w].spill : 0);
+        chosen[k] = std::move(outcomes[w]);
+        int most = 0;
+        for (size_t v : tried[k]) most = std::max(most, jobs[v].second);
+        rep.largestBudget.push_back(most);
+        rep.keptBudget.push_back(jobs[w].second);
+    }
+    rep.conversions = static_cast<int>(jobs.size());
+    return chosen;
+}
+
+// The document: the base mesh (coarse when every region converted), then every region's
+// meshes in drawing order; the regions' reports and fates counted into rep.
+Document assembleDocument(const RgbaImage& image, const std::vector<Region>& regions,
+                          std::vector<RegionOutcome>& outcomes,
+                          const SegmentConvertOptions& options, SegmentConvertReport& rep) {
+    ConvertReport& cr = rep.convert;
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
-    t0 = Clock::now();
-    const bool anyFailed = std::find(ok.begin(), ok.end(), 0) != ok.end();
+    const auto t0 = Clock::now();
+    const bool anyFailed = std::any_of(outcomes.begin(), outcomes.end(),
+                                       [](const RegionOutcome& o) { return !o.converted(); });
     GradientMesh base = baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
                                  options.convert.threads, options.convert.colors);
     const double baseSeconds = since(t0);
     rep.basePatches = base.patchCount();
     doc.meshes.push_back(std::move(base));
-    for (size_t k = 0; k < n; ++k) {
-        RegionReport& rr = reports[k];
-        if (ok[k]) {
-            for (GradientMesh& m : meshes[k]) doc.meshes.push_back(std::move(m));
-            if (ok[k] == 2) ++rep.filledRegions;
-            if (ok[k] == 3) ++rep.trimmedRegions;
-            if (ok[k] == 4) ++rep.splitRegions;
-        } else {
-            ++rep.failedRegions;
-        }
-        cr.patches += rr.patches;
-        cr.seconds += rr.seconds;
+    for (size_t k = 0; k < regions.size(); ++k) {
+        RegionOutcome& o = outcomes[k];
+        if (o.converted())
+            for (GradientMesh& m : o.meshes) doc.meshes.push_back(std::move(m));
+        rep.failedRegions += o.fate == RegionFate::Failed;
+        rep.filledRegions += o.fate == RegionFate::HolesFilled;
+        rep.trimmedRegions += o.fate == RegionFate::ThinPartsApart;
+        rep.splitRegions += o.fate == RegionFate::SplitAtNecks;
+        cr.patches += o.report.patches;
+        cr.seconds += o.report.seconds;
         rep.regionLabels.push_back(regions[k].label);
-        rep.fallbacks.push_back(fallbacks[k]);
-        cr.regions.push_back(std::move(rr));
+        rep.fallbacks.push_back(std::move(o.fallback));
+        cr.regions.push_back(std::move(o.report));
     }
     cr.seconds.mesh += baseSeconds;
     cr.patches += rep.basePatches;
+    return doc;
+}
 
-    // Figures over every pixel, at region borders and inside, and without the base mesh.
-    t0 = Clock::now();
+// The error over every pixel, at region borders and inside, and the pixels no region mesh
+// covers (the document without its base mesh).
+void measureSegmented(const Document& doc, const RgbaImage& image, const std::vector<int>& labels,
+                      SegmentConvertReport& rep) {
     const RenderResult full = renderDocument(doc, RenderOptions{});
     const size_t np = static_cast<size_t>(image.width) * image.height;
     std::vector<uint8_t> all(np, 1), border(np, 0), inner(np, 0);
@@ -577,12 +601,12 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t k = static_cast<size_t>(y) * w + x;
-            const int l = seg.labels[k];
-            const bool b = (x > 0 && seg.labels[k - 1] != l) || (x + 1 < w && seg.labels[k + 1] != l) ||
-                           (y > 0 && seg.labels[k - w] != l) || (y + 1 < h && seg.labels[k + w] != l);
+            const int l = labels[k];
+            const bool b = (x > 0 && labels[k - 1] != l) || (x + 1 < w && labels[k + 1] != l) ||
+                           (y > 0 && labels[k - w] != l) || (y + 1 < h && labels[k + w] != l);
             (b ? border : inner)[k] = 1;
         }
-    cr.error = compareOverMask(image, full.image, all);
+    rep.convert.error = compareOverMask(image, full.image, all);
     rep.border = compareOverMask(image, full.image, border);
     rep.interior = compareOverMask(image, full.image, inner);
     Document regionsOnly = doc;
@@ -591,6 +615,39 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         regionsOnly.meshes.empty()
             ? 1.0
             : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all).uncovered;
+}
+
+}  // namespace
+
+Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
+                          const std::string& imageName, SegmentConvertReport* report) {
+    SegmentConvertReport local;
+    SegmentConvertReport& rep = report ? *report : local;
+    rep = SegmentConvertReport{};
+    rep.convert.maskSource = "segmentation";
+    rep.convert.width = image.width;
+    rep.convert.height = image.height;
+    if (image.width <= 0 || image.height <= 0) throw Error("the image has no pixels", imageName);
+    const auto tStart = Clock::now();
+
+    Segmentation seg;
+    const std::vector<Region> regions = segmentRegions(image, options, imageName, seg, rep);
+
+    auto t0 = Clock::now();
+    RegionConverter converter(image, regions, options);
+    std::vector<RegionOutcome> outcomes;
+    if (options.totalPatches > 0 && !regions.empty()) {
+        outcomes = convertWithinTotal(converter, regions, options, rep);
+    } else {
+        std::vector<std::pair<size_t, int>> jobs;
+        for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, converter.maxPatches()});
+        converter.run(jobs, outcomes);
+    }
+    rep.convertSeconds = since(t0);
+
+    Document doc = assembleDocument(image, regions, outcomes, options, rep);
+    t0 = Clock::now();
+    measureSegmented(doc, image, seg.labels, rep);
     rep.measureSeconds = since(t0);
     rep.totalSeconds = since(tStart);
     return doc;
