@@ -1,4 +1,4 @@
-// Raster → gradient meshes: the whole pipeline of DESIGN.md §3 for every region of an object
+// Raster → gradient meshes: the whole pipeline of docs/design.md §3 for every region of an object
 // mask, timed per stage (T = regions+corners+triangulate, P = topology+feature map,
 // M = grid+colours+refine, as in the paper's Table 1).
 #pragma once

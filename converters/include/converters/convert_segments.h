@@ -1,4 +1,4 @@
-// Whole images (DESIGN.md §5, paper §4.6): the image is segmented into large regions
+// Whole images (docs/design.md §5, paper §4.6): the image is segmented into large regions
 // (segment.h), each region — holes included — becomes one mesh through the per-region pipeline
 // (convertRegion; a region too thin in places for one map: its core and those parts, see
 // convertSegmented), the regions converted in parallel. No seams: each region's mesh reaches about

@@ -1,4 +1,4 @@
-// Pipeline stage 5, feature map (DESIGN.md §3, paper §4.4): reparameterises a region's
+// Pipeline stage 5, feature map (docs/design.md §3, paper §4.4): reparameterises a region's
 // triangulation so that parts of the image whose colour gradient changes fast take more of the
 // parameter rectangle (and so more patches of a uniform grid). Stretch minimisation after
 // Yoshizawa, Belyaev and Seidel 2004, under the 8-D metric of feature coordinates

@@ -1,4 +1,4 @@
-// Whole images (DESIGN.md §5): the narrowest neck of a region, where a straight cut splits it
+// Whole images (docs/design.md §5): the narrowest neck of a region, where a straight cut splits it
 // into two parts that each map onto a rectangle far better than the whole. One map of a region
 // with a lobe behind a neck crowds the lobe into a sliver of the parameter rectangle: its grid
 // lines fan out from the neck, the lobe's patches become long and thin, and its texture smears

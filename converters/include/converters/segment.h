@@ -1,4 +1,4 @@
-// Whole-image segmentation into a few large regions (DESIGN.md §5, paper §4.6): graph-based
+// Whole-image segmentation into a few large regions (docs/design.md §5, paper §4.6): graph-based
 // segmentation (Felzenszwalb–Huttenlocher, OpenCV's) on a downscaled copy, its slivers and
 // small pieces merged; each segment's boundary band refined with GrabCut; the gaps GrabCut
 // leaves filled by seeded region growing on colour; small, thin and weakly separated regions
