@@ -148,8 +148,9 @@ void convertThinParts(const RgbaImage& image, const std::vector<uint8_t>& rest,
 // "(N px, H holes, outline from (x, y))": how errors name a region.
 std::string regionLabel(const Region& region);
 
-// Converts every region of `mask` (1 = object). Throws gm::Error naming `imageName` for a region
-// it cannot convert (regions with holes until the slit map lands in the pipeline).
+// Converts every region of `mask` (1 = object), each through convertRegion and, where its map
+// fails, the fallbacks of docs/design.md §3 ("Fallbacks"). Throws gm::Error naming `imageName`
+// for a region it cannot convert even so.
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report = nullptr);
 

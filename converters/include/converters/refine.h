@@ -28,7 +28,7 @@ struct RefineOptions {
     double maxError = 2.0;     // target E, 0–255 units (docs/design.md §6)
     int maxPatches = 400;      // budget: no split may exceed it
     int candidates = 1;        // splits tried per step, best estimated first (each try is a
-                               // grid, a render and a fit: about 50 ms at 512²)
+                               // grid, a render and a fit)
     int maxTries = 8;          // candidates tried per step before giving up (when none improves)
     // Batches: a step splits every interval whose score is at least batchFraction of the best
     // one, in rank order, while the patch count stays within batchGrowth times the current one
