@@ -1,4 +1,4 @@
-// `gradmesh convert IMAGE -o OUT`: the raster → mesh path of the command (issue 4). Kept apart
+// `gradmesh convert IMAGE -o OUT`: the raster → mesh path of the command. Kept apart
 // from gradmesh_main.cpp so the mesh-file commands do not grow with the pipeline's options.
 #pragma once
 

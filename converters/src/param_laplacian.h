@@ -1,6 +1,6 @@
-// Sparse linear systems shared by the topology map and the feature map (DESIGN.md §3 steps 4–5):
-// per-edge weights of a triangulation and the "each free vertex is a weighted average of its
-// neighbours" system built from them. Internal to converters_pipeline.
+// Sparse linear systems shared by the topology map and the feature map (docs/design.md §3,
+// steps 4–5): per-edge weights of a triangulation and the "each free vertex is a weighted
+// average of its neighbours" system built from them. Internal to converters_pipeline.
 #pragma once
 
 #include <Eigen/Sparse>

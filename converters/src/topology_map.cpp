@@ -261,7 +261,7 @@ int untangle(const TriMesh& mesh, const VertexTriangles& vt, const std::vector<c
 }
 
 // Solves a symmetric positive definite Laplacian system (cotangent weights): a direct
-// factorisation beats conjugate gradients here (measured: 20k vertices 70 ms against 190 ms).
+// factorisation is faster than conjugate gradients at the sizes of our triangulations.
 Eigen::MatrixXd solveSymmetric(const detail::LaplacianSystem& sys, const char* what) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(sys.A);
     if (solver.info() != Eigen::Success)
@@ -478,10 +478,10 @@ TopologyMap buildSlitMapOrFolds(const TriMesh& mesh, double px, double py) {
     // Negative weights (obtuse angles facing an edge from both sides, or facing a loop edge) are
     // raised to this floor; cotangent weights are dimensionless, typically about 0.5.
     b.W = detail::cotangentWeights(mesh, mesh.vertices, 1e-3, &result.stats.clampedWeights);
-    // Tried: v fixed on every side (left and right by arc length) straightens sides near holes
-    // (a square with a hole 8 px below its top: outline deviation 7.7 -> 2.9 px) but lets
-    // patches bulge into small holes (21-hole disc: one hole 98.6% uncovered); fixing u on the
-    // top and bottom too folds triangles between a hole and a side. Kept: the paper's choice.
+    // Why v is free on the left and right sides and u on the top and bottom (the paper's
+    // choice): v fixed on every side (left and right by arc length) straightens sides near
+    // holes but lets patches bulge into small holes, leaving them painted over; fixing u on the
+    // top and bottom too folds triangles between a hole and a side.
     for (int i = 0; i < b.nv; ++i) {
         if (b.sideMask[i] & (1 << kTop)) b.uv[i].y = 0;
         if (b.sideMask[i] & (1 << kBottom)) b.uv[i].y = py;
@@ -602,8 +602,8 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py) {
     }
     const detail::LaplacianSystem sys =
         detail::assembleLaplacian(detail::meanValueWeights(mesh, mesh.vertices), unknown, count, fixed);
-    // One factorisation for both coordinates. Measured on 20k/100k-vertex meshes: SparseLU
-    // 160/1700 ms against 190/3600 ms for BiCGSTAB with an incomplete-LU preconditioner.
+    // One factorisation for both coordinates: SparseLU is faster here than BiCGSTAB with an
+    // incomplete-LU preconditioner.
     if (count > 0) {  // a small region may have every vertex on its outline
         Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
         solver.compute(sys.A);

@@ -36,7 +36,7 @@ uint64_t le(const std::string& s, size_t at, int n) {
     return x;
 }
 
-// Walks the section framing (layout: formats/gmb/src/gmb_format.cpp) and rewrites each CRC.
+// Walks the section framing (layout: docs/formats.md) and rewrites each CRC.
 std::string withFixedCrcs(std::string s) {
     size_t pos = 12;
     while (s.size() >= pos && s.size() - pos >= 28) {

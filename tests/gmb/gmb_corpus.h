@@ -134,7 +134,7 @@ inline gm::Document goldenCompactRule() {
 }
 
 // Moves every stored derivative of `m` onto the grid of encoding 2 (tangents in steps of 1/8 px
-// and 1/128 over the span of their node, gmb_format.cpp), with the writer's exponents.
+// and 1/128 over the span of their node, docs/formats.md), with the writer's exponents.
 inline void snapToCodedGrid(gm::GradientMesh& m) {
     double minStep = m.u[1] - m.u[0];
     for (size_t i = 1; i < m.u.size(); ++i) minStep = std::min(minStep, m.u[i] - m.u[i - 1]);

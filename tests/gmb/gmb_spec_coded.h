@@ -1,6 +1,6 @@
 // An independent reading of the NODE payload of encoding 2 (range-coded), of CMSH sections
 // (version 1.2), of CMS2 sections (version 1.3) and of CMS3 sections (version 1.4), written
-// from the specification at the top of formats/gmb/src/gmb_format.cpp
+// from the specification in docs/formats.md
 // rather than from the reader: the tests decode the writer's files with it (so the spec is
 // enough to write a decoder), and build range-coded payloads that the writer never produces
 // (malformed cases).

@@ -1,5 +1,5 @@
 // Test support for .gmb: meshes to round-trip, and an independent lossless writer built from the
-// specification at the top of formats/gmb/src/gmb_format.cpp (its own CRC-32 too), so that the
+// specification in docs/formats.md (its own CRC-32 too), so that the
 // tests can write files the real writer refuses to (invalid meshes, newer minors, bad sizes)
 // and can check that the real writer follows the spec byte for byte.
 #pragma once

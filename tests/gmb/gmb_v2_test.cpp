@@ -1,4 +1,4 @@
-// Version 2.0 of .gmb: 1.4's sections in short framing (gmb_format.cpp, "Version 2"). The
+// Version 2.0 of .gmb: 1.4's sections in short framing (docs/formats.md, "Version 2"). The
 // writer's compact files must be exactly the 1.x file reframed by the spec (reframeAs20, written
 // from the spec alone), read back to the same documents, and be refused cleanly when damaged.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Pipeline stage 7, colours (DESIGN.md §3, paper §4.5): node colours and colour derivatives of
+// Pipeline stage 7, colours (docs/design.md §3, paper §4.5): node colours and colour derivatives of
 // a mesh whose geometry is fixed.
 //
 //  - Sampled (the paper): node colours are bilinear samples of the image taken from the region's

@@ -1,4 +1,4 @@
-// Raster → gradient meshes: the whole pipeline of DESIGN.md §3 for every region of an object
+// Raster → gradient meshes: the whole pipeline of docs/design.md §3 for every region of an object
 // mask, timed per stage (T = regions+corners+triangulate, P = topology+feature map,
 // M = grid+colours+refine, as in the paper's Table 1).
 #pragma once
@@ -148,8 +148,9 @@ void convertThinParts(const RgbaImage& image, const std::vector<uint8_t>& rest,
 // "(N px, H holes, outline from (x, y))": how errors name a region.
 std::string regionLabel(const Region& region);
 
-// Converts every region of `mask` (1 = object). Throws gm::Error naming `imageName` for a region
-// it cannot convert (regions with holes until the slit map lands in the pipeline).
+// Converts every region of `mask` (1 = object), each through convertRegion and, where its map
+// fails, the fallbacks of docs/design.md §3 ("Fallbacks"). Throws gm::Error naming `imageName`
+// for a region it cannot convert even so.
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report = nullptr);
 

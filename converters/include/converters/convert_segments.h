@@ -1,4 +1,4 @@
-// Whole images (DESIGN.md §5, paper §4.6): the image is segmented into large regions
+// Whole images (docs/design.md §5, paper §4.6): the image is segmented into large regions
 // (segment.h), each region — holes included — becomes one mesh through the per-region pipeline
 // (convertRegion; a region too thin in places for one map: its core and those parts, see
 // convertSegmented), the regions converted in parallel. No seams: each region's mesh reaches about
@@ -17,9 +17,8 @@
 namespace gm {
 
 // The default patch budget per region of a whole-image conversion: large enough that most
-// regions stop at the error target rather than at the budget (an object conversion's 400 left
-// fruits.jpg and astronaut.png at E 6.4 and 5.4 over the image; fruits' orange wedge is at
-// E 6.3 with 6000 patches, 5.2 with 8000).
+// regions stop at the error target rather than at the budget (an object conversion's 400 leaves
+// large textured regions of a photo well above the default target).
 constexpr int kSegmentMaxPatches = 8000;
 
 struct SegmentConvertOptions {
@@ -28,7 +27,7 @@ struct SegmentConvertOptions {
     int threads = 0;             // regions converted at once (0: all hardware threads)
     // When > 0, each region's budget is its pixels / pixelsPerPatch, at least
     // minRegionPatches and at most convert.maxPatches: a small, busy region does not get a
-    // patch for every few pixels (astronaut: a 4,217-px region took 1,440 patches for E 2.8).
+    // patch for every few pixels.
     double pixelsPerPatch = 8;
     int minRegionPatches = 36;
     int overlap = 1;             // pixels each region's outline reaches under its neighbours
@@ -50,8 +49,8 @@ struct SegmentConvertOptions {
     double foldedArea = 40;
     // Pixels per patch side of the base mesh: basePatchSize when a region failed (the base
     // mesh then paints all of it), else coarseBasePatchSize (it only fills the slivers no
-    // region mesh reaches, ~0.2 % of the pixels at the smallest budgets, and at 64 px it was
-    // half of the patches of a file at 4 patches a region).
+    // region mesh reaches, a tiny fraction of the pixels, and a finer base would be a large
+    // share of the patches of a file at small budgets).
     double basePatchSize = 64;
     double coarseBasePatchSize = 256;
     // When > 0 (--total-patches): one patch budget for the whole image, shared out where it

@@ -1,5 +1,5 @@
-// Pipeline stage 2, corners (DESIGN.md §3, paper §4.1): the four points of a region's outer loop
-// that map to the corners of the parameter rectangle (tri_mesh.h), and the rectangle's size.
+// Pipeline stage 2, corners (docs/design.md §3, paper §4.1): the four points of a region's outer
+// loop that map to the corners of the parameter rectangle (tri_mesh.h), and the rectangle's size.
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// Pipeline stage 5, feature map (DESIGN.md §3, paper §4.4): reparameterises a region's
+// Pipeline stage 5, feature map (docs/design.md §3, paper §4.4): reparameterises a region's
 // triangulation so that parts of the image whose colour gradient changes fast take more of the
 // parameter rectangle (and so more patches of a uniform grid). Stretch minimisation after
 // Yoshizawa, Belyaev and Seidel 2004, under the 8-D metric of feature coordinates
@@ -31,8 +31,7 @@ struct FeatureMapOptions {
     // parameter rectangle) a positive-weight solve can fold; the vertices of folded triangles
     // are then frozen and the system solved again, each time a new factorisation. A fold also
     // freezes their neighbours within foldFreezeRings edges, so that the next solve is less
-    // likely to fold one ring further out (the 21-hole amulet: 10 factorisations, P 0.105 s,
-    // before; 0.082 s after, same error; on a 21-hole test disc 15 -> 7, and lower stretch).
+    // likely to fold one ring further out: fewer factorisations, and lower stretch.
     int foldFreezeRings = 2;
 };
 

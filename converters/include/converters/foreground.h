@@ -1,4 +1,4 @@
-// Where the object comes from (DESIGN.md §3 step 1): a mask image, the alpha channel when it
+// Where the object comes from (docs/design.md §3 step 1): a mask image, the alpha channel when it
 // makes at least 0.1% of the pixels transparent (alpha < 0.5), else foreground extraction by GrabCut initialised from the image border.
 #pragma once
 

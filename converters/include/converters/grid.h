@@ -1,4 +1,4 @@
-// Pipeline stage 6, grid (DESIGN.md §3, paper §4.5): a gradient mesh whose grid is a set of
+// Pipeline stage 6, grid (docs/design.md §3, paper §4.5): a gradient mesh whose grid is a set of
 // knot lines in the parameter rectangle, carried into the image through the inverse of the
 // topology/feature map. Geometry only: node colours and colour derivatives are left zero
 // (stage 7, colours, fills them).

@@ -1,9 +1,9 @@
-// Whole images (DESIGN.md §5): the narrowest neck of a region, where a straight cut splits it
+// Whole images (docs/design.md §5): the narrowest neck of a region, where a straight cut splits it
 // into two parts that each map onto a rectangle far better than the whole. One map of a region
 // with a lobe behind a neck crowds the lobe into a sliver of the parameter rectangle: its grid
-// lines fan out from the neck, the lobe's patches become long and thin, and its texture smears
-// (fruits.jpg's orange wedge: E 5.2 with 8,000 patches as one
-// mesh (its thin parts apart), 3.45 as two meshes sharing the same 8,000).
+// lines fan out from the neck, the lobe's patches become long and thin, and its texture smears.
+// Two meshes sharing the same patch budget, one each side of the neck, render the lobe far
+// better.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Pipeline stage 8, refine (DESIGN.md §3, paper §4.5): starting from the initial grid, split
+// Pipeline stage 8, refine (docs/design.md §3, paper §4.5): starting from the initial grid, split
 // the u or v interval whose split removes the most error, re-derive the grid through the
 // inverse map with the new knot (so geometry keeps following the map) and refit the colours;
 // repeat until the mean error E is at most the target or the patch budget is spent.
@@ -25,10 +25,10 @@
 namespace gm {
 
 struct RefineOptions {
-    double maxError = 2.0;     // target E, 0–255 units (DESIGN §6)
+    double maxError = 2.0;     // target E, 0–255 units (docs/design.md §6)
     int maxPatches = 400;      // budget: no split may exceed it
     int candidates = 1;        // splits tried per step, best estimated first (each try is a
-                               // grid, a render and a fit: about 50 ms at 512²)
+                               // grid, a render and a fit)
     int maxTries = 8;          // candidates tried per step before giving up (when none improves)
     // Batches: a step splits every interval whose score is at least batchFraction of the best
     // one, in rank order, while the patch count stays within batchGrowth times the current one

@@ -1,4 +1,4 @@
-// Plain data passed between the raster → mesh stages (DESIGN.md §3). Image coordinates are
+// Plain data passed between the raster → mesh stages (docs/design.md §3). Image coordinates are
 // pixels, x right, y down; pixel (x, y) covers [x, x+1) x [y, y+1), its centre at (x+.5, y+.5).
 #pragma once
 

@@ -1,4 +1,4 @@
-// Pipeline stage 1, regions (DESIGN.md §3): object pixels → 8-connected regions with sub-pixel
+// Pipeline stage 1, regions (docs/design.md §3): object pixels → 8-connected regions with sub-pixel
 // outer and hole loops. Coordinates as in region.h: pixels, x right, y down, pixel (x, y)
 // covering [x, x+1) × [y, y+1).
 #pragma once

@@ -1,13 +1,13 @@
-// Whole-image segmentation into a few large regions (DESIGN.md §5, paper §4.6): graph-based
+// Whole-image segmentation into a few large regions (docs/design.md §5, paper §4.6): graph-based
 // segmentation (Felzenszwalb–Huttenlocher, OpenCV's) on a downscaled copy, its slivers and
 // small pieces merged; each segment's boundary band refined with GrabCut; the gaps GrabCut
 // leaves filled by seeded region growing on colour; small, thin and weakly separated regions
 // merged, so that every label is one 4-connected region.
 //
-// The paper asks for a "large threshold"; on OpenCV's FH a large k (over ~500 on a 2^16-pixel
-// image) leaks across object boundaries (on fruits.jpg, k 500 puts four fruits and the table
-// in one region), so the default is a moderate k with a large min_size, which gives a few
-// large regions that follow the objects.
+// The paper asks for a "large threshold"; on OpenCV's FH a large k leaks across object
+// boundaries (several objects and the table they stand on become one region), so the default
+// is a moderate k with a large min_size, which gives a few large regions that follow the
+// objects.
 #pragma once
 
 #include <vector>
@@ -22,7 +22,7 @@ struct SegmentOptions {
     // given, else defaultThreshold scaled to the working image's size.
     double threshold = 0;
     // Wanted number of regions, roughly (0 = a few large regions, as many as the image has:
-    // 2 on a silhouette, 6–22 on the sample photos).
+    // two on a silhouette, a few to a few dozen on a photo).
     int segments = 0;
     // Regions under this many pixels are merged into a neighbour; 0 = max(64, w*h/1000).
     int minRegion = 0;
@@ -31,7 +31,7 @@ struct SegmentOptions {
 
     // --- finer controls -----------------------------------------------------------------
     // FH runs on the image area-downscaled to at most this many pixels (never upscaled): a
-    // run then costs ~0.03 s whatever the image size, so k can be searched for, and k means
+    // run then costs little whatever the image size, so k can be searched for, and k means
     // the same on every image size. GrabCut brings the boundaries back to full resolution.
     int workPixels = 1 << 16;
     double sigma = 0.8;              // FH's Gaussian pre-smoothing, working-image pixels
@@ -43,8 +43,9 @@ struct SegmentOptions {
     int maxTrials = 7;               // FH runs spent searching k for `segments`
     int grabCutIterations = 1;
     // GrabCut runs on the image area-downscaled to at most this many pixels: its cost grows
-    // with the area (~1 µs per pixel of the segments' windows, ~3x the image), so a large
-    // photo's boundaries are refined at this resolution, then at full size by refineBorders.
+    // with the area of the segments' windows (several times the image's), so a large photo's
+    // boundaries are refined at this resolution, then at full size (upscaleLabelsRefined,
+    // segment_borders.h).
     // 0 = always full size.
     int grabCutPixels = 1 << 18;
     // When the regions were found on a downscaled copy (FH's working image, or GrabCut's),

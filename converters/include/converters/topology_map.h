@@ -1,4 +1,4 @@
-// Pipeline stage 4, topology map (DESIGN.md §3, paper §4.3): a bijective map of a region's
+// Pipeline stage 4, topology map (docs/design.md §3, paper §4.3): a bijective map of a region's
 // triangulation onto the parameter rectangle [0, px] × [0, py] (u right, v down; conventions in
 // tri_mesh.h). The outer loop's corners land on the rectangle's corners and each hole becomes a
 // horizontal slit.
@@ -66,7 +66,7 @@ TopologyMap buildTopologyMap(const TriMesh& mesh, double px, double py);
 // neighbours. `mesh` is modified. Throws like buildTopologyMap when folds remain.
 TopologyMap buildTopologyMapRefining(TriMesh& mesh, double px, double py, int maxRounds = 2);
 
-// The slit map with two sparse solves whatever the number of holes (DESIGN.md §3 step 4), with
+// The slit map with two sparse solves whatever the number of holes (docs/design.md §3 step 4), with
 // cotangent weights of the image-space triangulation:
 //   v: harmonic, 0 on the top side, py on the bottom side, free on the left and right sides,
 //      each hole's vertices tied to one floating value (zero total flux through the hole);

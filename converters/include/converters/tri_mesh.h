@@ -1,4 +1,4 @@
-// The triangulation of one region (DESIGN.md §3 step 3) and its maps onto the parameter
+// The triangulation of one region (docs/design.md §3 step 3) and its maps onto the parameter
 // rectangle (steps 4–5). Plain data between stages.
 //
 // Parameter domain convention, shared by every stage after corners: the rectangle

@@ -1,5 +1,6 @@
-// Pipeline stage 3, triangulate (DESIGN.md §3, paper §4.2): a constrained Delaunay triangulation
-// of a region whose samples are denser where the image is salient. Output as in tri_mesh.h.
+// Pipeline stage 3, triangulate (docs/design.md §3, paper §4.2): a constrained Delaunay
+// triangulation of a region whose samples are denser where the image is salient. Output as in
+// tri_mesh.h.
 #pragma once
 
 #include <vector>

@@ -1,4 +1,4 @@
-// The coded node planes of encoding 2 (layout: gmb_format.cpp, "Encoding 2"). All prediction
+// The coded node planes of encoding 2 (layout: docs/formats.md, "Encoding 2"). All prediction
 // arithmetic is on exact integers (128-bit where products need it), so that every reader
 // reproduces the writer's predictions bit for bit.
 #include "gmb_node_planes.h"
@@ -34,7 +34,7 @@ constexpr bool kAlongU[kNodeComponents] = {false, false, true, true, false, fals
                                            false, true,  true, true, false, false, false};
 
 // The weights a, b, s of each plane (node-record order) in a CMSH mesh record unless stated
-// (gmb_format.cpp, "CMSH"), in units of 1/256; b is unused for derivative planes. Fitted on
+// (docs/formats.md, "CMSH"), in units of 1/256; b is unused for derivative planes. Fitted on
 // whole photos: positions follow the parallelogram and the central difference; a colour is
 // nearer the mean of its left and upper neighbours, and red and blue move with green.
 constexpr int32_t kDefaultWeights[kNodeComponents][3] = {
@@ -336,7 +336,7 @@ double signedBits(IntegerModels& m, int64_t x) {
     return bits + magnitudeBits(m.length, m.top, absolute(x));
 }
 
-// CMS3 (gmb_format.cpp, "CMS3"): the residual models each plane (node-record component) codes
+// CMS3 (docs/formats.md, "CMS3"): the residual models each plane (node-record component) codes
 // with, named by the first component that uses them; 7 sets in all.
 constexpr int kCms3Models[kNodeComponents] = {0, 1, 2, 2, 2, 2, 6, 7, 6, 9, 10, 9, 9, 10, 9};
 
@@ -384,7 +384,7 @@ void startFrom(BitModel& m, uint16_t prior) {
 
 }  // namespace
 
-// All the models of a CMS2 or CMS3 stream (gmb_format.cpp, "CMS2", "CMS3"): set at the start of
+// All the models of a CMS2 or CMS3 stream (docs/formats.md, "CMS2", "CMS3"): set at the start of
 // a section, shared by its meshes.
 struct StreamModels {
     IntegerModels fields[kStreamFields];

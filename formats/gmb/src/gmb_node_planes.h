@@ -1,5 +1,5 @@
 // Private to the .gmb reader and writer: the NODE payload of encoding 2 (quantised, predicted
-// and range-coded; specified at the top of gmb_format.cpp under "Encoding 2"). Prediction and
+// and range-coded; specified in docs/formats.md under "Encoding 2"). Prediction and
 // residual coding live here once, for both directions, so that writer and reader cannot drift.
 #pragma once
 
@@ -59,7 +59,7 @@ void decodeCodedNodes(ByteReader& reader, CodedGrid& grid, WeightLayout layout);
 // section.
 
 // The kinds of integer coded in a CMS2 or CMS3 stream outside the node planes; each has its own
-// models (gmb_format.cpp, "CMS2").
+// models (docs/formats.md, "CMS2").
 enum class StreamField {
     Size,           // C, R
     Count,          // slit count, corner tangent break count
@@ -78,7 +78,7 @@ constexpr int kStreamFields = 12;
 
 // The two kinds of range-coded mesh stream: CMS2 (version 1.3), whose models all start fresh
 // and whose 15 planes each have their own residual models, and CMS3 (version 1.4), whose planes
-// share 7 sets of residual models that start from fixed priors (gmb_format.cpp, "CMS3").
+// share 7 sets of residual models that start from fixed priors (docs/formats.md, "CMS3").
 enum class StreamKind { Cms2, Cms3 };
 
 // All the adaptive models of a CMS2 or CMS3 stream: set at the start of a section, then shared

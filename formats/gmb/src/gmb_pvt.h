@@ -1,5 +1,5 @@
-// Private to the .gmb reader and writer: format constants (the layout itself is specified at the
-// top of gmb_format.cpp), little-endian byte buffers and section framing.
+// Private to the .gmb reader and writer: format constants (the layout itself is specified in
+// docs/formats.md), little-endian byte buffers and section framing.
 #pragma once
 
 #include <cstddef>

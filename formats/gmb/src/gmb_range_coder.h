@@ -1,5 +1,5 @@
 // Private to the .gmb reader and writer: the adaptive binary range coder of the coded node
-// planes (encoding 2). Its arithmetic is specified at the top of gmb_format.cpp ("Range
+// planes (encoding 2). Its arithmetic is specified in docs/formats.md ("Range
 // coding"); encoder and decoder here are the two halves of that one definition.
 #pragma once
 

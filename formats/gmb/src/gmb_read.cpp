@@ -1,4 +1,4 @@
-// The .gmb reader (layout: gmb_format.cpp). Everything in the input is untrusted: each count is
+// The .gmb reader (layout: docs/formats.md). Everything in the input is untrusted: each count is
 // checked against the limits and the bytes that remain before it sizes an allocation, and all
 // size arithmetic is 64-bit and saturating.
 #include <algorithm>
@@ -26,12 +26,12 @@ constexpr uint64_t kMaxHeaderPayload = 4096;
 // fields, four knots, the weights mask and a 5-byte range-coded stream).
 constexpr uint64_t kMinMeshRecord = 16;
 // What a quantised node value counts against ReadLimits::maxFileBytes once decoded: the
-// binary64 it becomes (gmb_format.cpp, "Reading limits").
+// binary64 it becomes (docs/formats.md, "Reading limits").
 constexpr uint64_t kDecodedBytesPerValue = 8;
-// A range-coded stream of V values has more than V / 11730 bytes (gmb_format.cpp): a reader
+// A range-coded stream of V values has more than V / 11730 bytes (docs/formats.md): a reader
 // refuses V values where fewer than V / 16384 bytes remain.
 constexpr uint64_t kValuesPerStreamByte = 16384;
-// A mesh of a CMS2 or CMS3 stream makes at least 57 binary decisions (gmb_format.cpp): M meshes need
+// A mesh of a CMS2 or CMS3 stream makes at least 57 binary decisions (docs/formats.md): M meshes need
 // more than M / 206 bytes, and a reader refuses M where fewer than M / 256 remain.
 constexpr uint64_t kStreamMeshesPerByte = 256;
 // The smallest float64 or 1.1 mesh: MESH, KNOT and NODE sections.
@@ -469,7 +469,7 @@ void Decoder::readNodes(ByteReader& r, const MeshHeader& h, GradientMesh& m) {
         // budget). The weights come first (in NODE at least 2 bytes per plane, in a CMSH record
         // at least the mask), then at least 5 bytes of the stream.
         r.need(h.record ? 6 : satAdd(satMul(2, F), 5), "the nodes");
-        // Nor can a stream be shorter than its values allow (gmb_format.cpp, "Reading limits"):
+        // Nor can a stream be shorter than its values allow (docs/formats.md, "Reading limits"):
         // checked before the planes are allocated.
         r.need(satMul(F, n) / kValuesPerStreamByte, "the range-coded nodes");
         decodeCodedNodes(r, grid_, h.record ? WeightLayout::Masked : WeightLayout::Explicit);
@@ -588,7 +588,7 @@ GradientMesh Decoder::readSections(const MeshHeader& h) {
         Payload p;
         if (h.encoding == Encoding::Coded) {
             // Weights (3 varints per plane), then at most 11 bits per binary decision of a
-            // 64-bit residual (gmb_format.cpp), under 128 bytes per value; decoded, each
+            // 64-bit residual (docs/formats.md), under 128 bytes per value; decoded, each
             // value counts as the binary64 it becomes.
             const uint64_t values = satMul(F, h.nodes());
             open(s, satAdd(satMul(30, F), satAdd(satMul(128, values), 5)), p,
@@ -773,7 +773,7 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
 
     GradientMesh m;
     // Every value takes at least one decision: a stream cannot be shorter than its values allow
-    // (gmb_format.cpp, "Reading limits"), checked before each allocation.
+    // (docs/formats.md, "Reading limits"), checked before each allocation.
     r.need((h.columns + h.rows + 2) / kValuesPerStreamByte, "the knots");
     for (std::vector<double>* k : {&m.u, &m.v}) {
         k->resize(static_cast<size_t>((k == &m.u ? h.columns : h.rows) + 1));

@@ -1,4 +1,4 @@
-// The .gmb writer (layout: gmb_format.cpp).
+// The .gmb writer (layout: docs/formats.md).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -17,9 +17,8 @@ namespace {
 
 using namespace gmb;
 
-// Measured on the quantised payloads of a 32x32-patch mesh: smooth synthetic, zstd -19 1165
-// bytes against deflate -9 1344; with fitting-like noise, 12106 against 12403. zstd is never
-// larger; the reader also accepts deflate, for other writers.
+// zstd: on quantised payloads it is never larger than deflate; the reader also accepts
+// deflate, for other writers.
 constexpr Codec kCompactCodec = Codec::Zstd;
 
 class SectionSink {
@@ -163,7 +162,7 @@ int binaryExponent(double x) {
 }
 
 // The exponents that meet GmbCompactBounds (gmb.h explains the bounds). Derivatives are stored
-// as tangents, derivative × span of their node (gmb_format.cpp, encoding 2), so their grid is
+// as tangents, derivative × span of their node (docs/formats.md, encoding 2), so their grid is
 // in pixels and 0–1 colour units whatever the knot scale.
 void chooseExponents(const GradientMesh& m, const GmbCompactShifts& shift, int (&e)[kFieldCount]) {
     double minStep = std::numeric_limits<double>::infinity();
@@ -335,7 +334,7 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
     return true;
 }
 
-// One mesh of a CMS2 or CMS3 section, into the section's stream (gmb_format.cpp, "CMS2").
+// One mesh of a CMS2 or CMS3 section, into the section's stream (docs/formats.md, "CMS2").
 void writeStreamMesh(CompactStreamWriter& w, const CodedMesh& m) {
     const CodedGrid& g = m.grid;
     w.putUnsigned(StreamField::Size, static_cast<uint64_t>(g.columns));

@@ -1,4 +1,4 @@
-// The colour-derivative rule that can be recomputed from node colours alone (DESIGN §2):
+// The colour-derivative rule that can be recomputed from node colours alone (docs/design.md §2):
 // monotone cubic, the SVG 2 / Inkscape `bicubic` rule, expressed in our global parameters.
 // Besides the colours it reads node positions and knots, which every format stores. A mesh
 // whose colour derivatives follow it may be stored without them, and opens in Inkscape as an

@@ -1,4 +1,4 @@
-// The topology-preserving gradient mesh (DESIGN.md §2, paper §3).
+// The topology-preserving gradient mesh (docs/design.md §2, paper §3).
 //
 // Conventions, stated once here:
 //  - Positions are in pixels of the canvas, x to the right, y DOWN.

@@ -20,9 +20,9 @@ struct RgbaImage {
 };
 
 // Asks the kernel to back a large, not yet touched buffer with huge pages (Linux, transparent
-// huge pages in "madvise" mode, Debian's default). Zero-filling a 64 MB render buffer otherwise
-// costs 16,000 page faults, most of a scale-4 render's time on a virtual machine. No-op for
-// small buffers and elsewhere.
+// huge pages in "madvise" mode, Debian's default). Zero-filling a large render buffer otherwise
+// costs a page fault per 4 KiB page, which can be most of a large render's time on a virtual
+// machine. No-op for small buffers and elsewhere.
 void adviseHugePages(void* data, size_t bytes);
 
 }  // namespace gm

@@ -1,4 +1,4 @@
-// .gmb — the native binary format (FORMATS.md): the whole representation, exactly.
+// .gmb — the native binary format (docs/formats.md): the whole representation, exactly.
 #pragma once
 
 #include <memory>
@@ -11,7 +11,7 @@ namespace gm {
 std::unique_ptr<MeshFormat> makeGmbFormat();
 
 // In-memory encode/decode (the format object reads/writes files through these). The layout,
-// versions 1.4 and 2.0, is specified at the top of formats/gmb/src/gmb_format.cpp; the reader
+// versions 1.4 and 2.0, is specified in docs/formats.md; the reader
 // also reads every 1.0 to 1.3 file (CMSH sections included), a lossless file is still a 1.0
 // file and a compact one 2.0 (see GmbFraming).
 // `compact`: quantised, predicted and range-coded (encoding 2), within the bounds below, in
@@ -20,17 +20,15 @@ std::unique_ptr<MeshFormat> makeGmbFormat();
 // otherwise lossless: every double stored bit for bit. Throws gm::Error (without a file name)
 // for a document that fails validateDocument.
 // compactLevel: see GmbCompactShifts (0 unless compact).
-// streams: how each run is coded. CMS3's models start from priors measured on converted
-// images: on those it is 2-6 % smaller than CMS2 (HappyFish whole at 10 patches a region,
-// level 6: 1,455 -> 1,381 B; fruits at 4 a region, level 5: 1,412 -> 1,327 B; big files gain
-// ~0.2 %), but on meshes unlike them it can be larger (synthetic test meshes with added noise:
-// up to 8 %). By default the writer codes each run both ways and keeps the smaller, so a file is
-// 1.4 only when that pays; Cms2 keeps every file readable by 1.3 readers.
+// streams: how each run is coded. CMS3's models start from priors taken from converted images:
+// on those it is usually smaller than CMS2, but on meshes unlike them it can be larger. By
+// default (Smaller) the writer codes each run both ways and keeps the smaller, so a file is 1.4
+// only when that pays; Cms2 keeps every file readable by 1.3 readers.
 enum class GmbStreams { Smaller, Cms2, Cms3 };
 // framing (compact files only; lossless files are always 1.0): Short writes version 2.0, 1.4's
 // sections with shorter headers (varint sizes: 11 bytes for an empty section instead of 28, and
-// a varint DOCU), 57 bytes less on every file, 5 % of a 1 KB whole image; Long writes 1.3 or
-// 1.4, for readers that know only 1.x.
+// a varint DOCU), which matters for small files; Long writes 1.3 or 1.4, for readers that know
+// only 1.x.
 enum class GmbFraming { Short, Long };
 std::string encodeGmb(const Document& doc, bool compact, int compactLevel = 0,
                       GmbStreams streams = GmbStreams::Smaller,
@@ -38,7 +36,7 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel = 0,
 // Throws gm::Error naming `fileName` and the byte offset on any malformed input; checks every
 // count against the bytes that remain and against `limits` before allocating. The decoded
 // (uncompressed) data may not exceed limits.maxFileBytes either, so a small compressed file
-// cannot expand without bound (a range-coded value counts as at least one byte). The result
+// cannot expand without bound (a decoded value counts as the 8 bytes of its binary64). The result
 // always passes validateDocument.
 Document decodeGmb(const std::string& bytes, const ReadLimits& limits,
                    const std::string& fileName = "<memory>");
@@ -66,19 +64,14 @@ struct GmbCompactBounds {
 // Coarser compact files, for size: at level L (0 to kGmbMaxCompactLevel; 0 is the default and
 // the bounds above) each quantity's grid, and with it its bound, is 2^k times level 0's, with k
 // from gmbCompactShifts(L). Every file states its grids, so any reader of its version reads
-// every level.
-// fruits.jpg converted whole at E 3 (bench/README.md): level 0 34.5 dB, 1 -0.02 dB and ~15 %
-// fewer bytes, 2 -0.2 dB / 43 %, 3 -0.6 dB / ~55 %, 4 -1.9 dB / 68 %, 5 -3.8 dB / 75 %, 6 -5.7 dB
-// / 81 %; 4 and 5 suit small, coarse meshes, where they cost little (fruits at 10 patches a
-// region: -0.2 and -0.5 dB). 6 is 5 with colours and colour slopes on grids twice as coarse:
-// for flat-coloured drawings (HappyFish at 10 patches a region: 12 % fewer bytes than 5 for
-// -0.4 dB); on photos it costs more (fruits at 4 a region: 10 % for -1.4 dB).
+// every level. Each level trades error for bytes (bench/README.md has the figures); 4 and 5 suit
+// small, coarse meshes, where they cost little. 6 is 5 with colours and colour slopes on grids
+// twice as coarse: for flat-coloured drawings; on photos it costs more.
 constexpr int kGmbMaxCompactLevel = 6;
 // Knots too (GmbCompactBounds::knotRelative × 2^knot): levels 1 to 4 keep each knot within
 // 2^-10 of the smallest interval, which moves a patch edge's tangent by at most 0.2 %; levels 5
 // and 6 within 2^-5, at most 6 % (on the smallest patches; less on larger ones). Small meshes
-// pay most for their knots: on HappyFish at 10 patches a region, 2^-5 saves 3 % of the file
-// (1,499 -> 1,455 B at level 6) for +0.04 dB; fruits at 4 a region 2 % for +0.01 dB.
+// pay most for their knots, so the coarse levels save most there.
 struct GmbCompactShifts {
     int position = 0, color = 0, positionTangent = 0, colorTangent = 0, knot = 0;
 };

@@ -34,10 +34,10 @@ std::vector<MeshShading> buildMeshShadings(const Document& doc, const WriteOptio
 // p30 p20 p10 p11 p12 p22 p21, p[a][b] with a along the patch's s), then the colours c00 c03 c33
 // c30, all big-endian. Coordinates are quantised over the integer-bounded box `decode` =
 // {xmin, xmax, ymin, ymax} in 16, 24 or 32 bits, the fewest that keep the step at 1/1024 px or
-// finer (24 for any page narrower than 16384 px: fruits.jpg whole, PDF 36.7 -> 29.0 MB); colours
-// (clamped to 0–1) to 1/65535. (Edge flags 1–3, which leave out an edge shared with the patch
-// before, would save another 10 % on split patches, but only by stating pieces turned or
-// mirrored, and pdftocairo renders a mirrored patch measurably differently.)
+// finer (24 for any page narrower than 16384 px), which keeps files small; colours (clamped to
+// 0–1) to 1/65535. (Edge flags 1–3, which leave out an edge shared with the patch before, would
+// save more on split patches, but only by stating pieces turned or mirrored, and pdftocairo
+// renders a mirrored patch measurably differently.)
 struct BinaryShading {
     std::string data;
     double decode[4] = {0, 1, 0, 1};
