@@ -441,256 +441,309 @@ const CoverChain& cachedCoverChain(CoverKey key, const std::function<CoverChain(
 
 }  // namespace
 
-GradientMesh GridBuilder::build(const GridOptions& options) const {
-    const Impl& m = *impl_;
-    GradientMesh mesh;
-    chooseKnots(m.map, options, mesh.u, mesh.v);
-    const int C = mesh.columns(), R = mesh.rows();
-    mesh.nodes.assign(static_cast<size_t>(C + 1) * (R + 1), Node{});
+// The steps of GridBuilder::build: knots, slits, node positions, the rectangle's sides fitted
+// one-sided, position derivatives by least squares along every grid line, then the sides
+// blended back where they would fold a patch.
+class GridAssembly {
+public:
+    GridAssembly(const GridBuilder::Impl& map, const GridOptions& options)
+        : m_(map), options_(options) {}
 
-    // Slits onto knot indices.
-    std::vector<int> slitOfNode(static_cast<size_t>(C + 1) * (R + 1), -1);  // interior nodes
-    for (const GridSlit& gs : options.slits) {
-        Slit s;
-        s.row = nearestIndex(mesh.v, gs.v);
-        s.i0 = nearestIndex(mesh.u, gs.u0);
-        s.i1 = nearestIndex(mesh.u, gs.u1);
-        if (s.row <= 0 || s.row >= R || s.i0 <= 0 || s.i1 >= C || s.i1 <= s.i0)
-            throw Error("grid: a slit does not lie on interior grid lines");
-        for (const Slit& o : mesh.slits)
-            if (o.row == s.row && s.i0 <= o.i1 && o.i0 <= s.i1)
-                throw Error("grid: two slits touch on one row");
-        s.below.resize(static_cast<size_t>(s.i1 - s.i0 - 1));
-        for (int i = s.i0 + 1; i < s.i1; ++i)
-            slitOfNode[static_cast<size_t>(s.row) * (C + 1) + i] =
-                static_cast<int>(mesh.slits.size());
-        mesh.slits.push_back(std::move(s));
+    GradientMesh run() {
+        chooseKnots(m_.map, options_, mesh_.u, mesh_.v);
+        C_ = mesh_.columns();
+        R_ = mesh_.rows();
+        mesh_.nodes.assign(static_cast<size_t>(C_ + 1) * (R_ + 1), Node{});
+        placeSlits();
+        placeNodes();
+        const int nSamples = std::max(2, options_.samplesPerEdge);
+        tau_.resize(static_cast<size_t>(nSamples));
+        for (int k = 0; k < nSamples; ++k) tau_[k] = (k + 1.0) / (nSamples + 1.0);
+        std::vector<CoverChain> cover;
+        if (options_.outlineCover >= 0)
+            for (int side = 0; side < 4; ++side) cover.push_back(sideCover(side));
+        layoutSlots();
+        storeDerivatives(fitAlongRows(), fitAlongColumns());
+        if (!cover.empty()) blendSidesWhereTheyFold(cover);
+        if (options_.unfold) unfoldPatches(mesh_);
+        return std::move(mesh_);
     }
-    std::vector<int> slitRow(static_cast<size_t>(R + 1), 0);  // rows holding slits
-    for (const Slit& s : mesh.slits) slitRow[s.row] = 1;
+
+private:
+    // Slits onto knot indices; slitOfNode_ marks their interior nodes, slitRow_ their rows.
+    void placeSlits() {
+        slitOfNode_.assign(static_cast<size_t>(C_ + 1) * (R_ + 1), -1);
+        for (const GridSlit& gs : options_.slits) {
+            Slit s;
+            s.row = nearestIndex(mesh_.v, gs.v);
+            s.i0 = nearestIndex(mesh_.u, gs.u0);
+            s.i1 = nearestIndex(mesh_.u, gs.u1);
+            if (s.row <= 0 || s.row >= R_ || s.i0 <= 0 || s.i1 >= C_ || s.i1 <= s.i0)
+                throw Error("grid: a slit does not lie on interior grid lines");
+            for (const Slit& o : mesh_.slits)
+                if (o.row == s.row && s.i0 <= o.i1 && o.i0 <= s.i1)
+                    throw Error("grid: two slits touch on one row");
+            s.below.resize(static_cast<size_t>(s.i1 - s.i0 - 1));
+            for (int i = s.i0 + 1; i < s.i1; ++i)
+                slitOfNode_[static_cast<size_t>(s.row) * (C_ + 1) + i] =
+                    static_cast<int>(mesh_.slits.size());
+            mesh_.slits.push_back(std::move(s));
+        }
+        slitRow_.assign(static_cast<size_t>(R_ + 1), 0);
+        for (const Slit& s : mesh_.slits) slitRow_[s.row] = 1;
+    }
+
     // The slit (if any) whose run [i0, i1] holds column i on row j, ends included.
-    auto slitAt = [&](int i, int j) -> const Slit* {
-        if (!slitRow[j]) return nullptr;
-        for (const Slit& s : mesh.slits)
+    const Slit* slitAt(int i, int j) const {
+        if (!slitRow_[j]) return nullptr;
+        for (const Slit& s : mesh_.slits)
             if (s.row == j && i >= s.i0 && i <= s.i1) return &s;
         return nullptr;
-    };
+    }
 
     // Node positions (nodes on a slit: the main copy from above, the below copy from below).
-    for (int j = 0; j <= R; ++j) {
-        for (int i = 0; i <= C; ++i) {
-            const bool onSlit = slitAt(i, j) != nullptr;
-            mesh.node(i, j).pos = m.position(mesh.u[i], mesh.v[j], onSlit ? -1 : 0);
-        }
-    }
-    for (Slit& s : mesh.slits)
-        for (int i = s.i0 + 1; i < s.i1; ++i)
-            s.below[static_cast<size_t>(i - s.i0 - 1)].pos =
-                m.position(mesh.u[i], mesh.v[s.row], 1);
-
-    const int nSamples = std::max(2, options.samplesPerEdge);
-    std::vector<double> tau(static_cast<size_t>(nSamples));
-    for (int k = 0; k < nSamples; ++k) tau[k] = (k + 1.0) / (nSamples + 1.0);
-
-    // The rectangle's sides fitted one-sided (their nodes may move outward): top, bottom
-    // (derivatives along u), left, right (along v).
-    std::vector<CoverChain> cover;
-    if (options.outlineCover >= 0) {
-        for (int side = 0; side < 4; ++side) {
-            const bool alongU = side < 2;
-            const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R : C);
-            const std::vector<double>& k = alongU ? mesh.u : mesh.v;
-            const std::vector<double>& other = alongU ? mesh.v : mesh.u;
-            const double fixed = other[fixedIndex];
-            const double inward = fixedIndex == 0 ? 0.5 * (other[1] - other[0])
-                                                  : -0.5 * (other[fixedIndex] - other[fixedIndex - 1]);
-            const int N = static_cast<int>(k.size()) - 1;
-            auto fit = [&]() {
-                std::vector<Vec2> P, inside;
-                std::vector<double> delta;
-                for (int a = 0; a <= N; ++a)
-                    P.push_back(alongU ? mesh.node(a, fixedIndex).pos : mesh.node(fixedIndex, a).pos);
-                for (int a = 0; a < N; ++a) {
-                    delta.push_back(k[a + 1] - k[a]);
-                    const double mid = 0.5 * (k[a] + k[a + 1]);
-                    inside.push_back(alongU ? m.position(mid, fixed + inward, 0)
-                                            : m.position(fixed + inward, mid, 0));
-                }
-                auto outlineAt = [&](int a, double t) {
-                    const double p = k[a] + t * (k[a + 1] - k[a]);
-                    return alongU ? m.position(p, fixed, 0) : m.position(fixed, p, 0);
-                };
-                return fitCoverChain(P, delta, outlineAt, inside, tau, options.outlineCover,
-                                     options.outlineSlack, options.tangentLimit);
-            };
-            cover.push_back(cachedCoverChain({m.id, side, k, fixed, inward, options.outlineCover,
-                                              options.outlineSlack, options.tangentLimit, nSamples},
-                                             fit));
-        }
-    }
-
-    // Slot numbering: nodes, then below copies; for u also the slit ends' (left, right).
-    const int nNodes = (C + 1) * (R + 1);
-    std::vector<int> belowBase;
-    int nBelow = 0;
-    for (const Slit& s : mesh.slits) {
-        belowBase.push_back(nNodes + nBelow);
-        nBelow += s.i1 - s.i0 - 1;
-    }
-    const int endBase = nNodes + nBelow;
-    const int nSlotsU = endBase + 2 * static_cast<int>(mesh.slits.size());
-    const int nSlotsV = nNodes + nBelow;
-    auto slitIndex = [&](const Slit* s) { return static_cast<int>(s - mesh.slits.data()); };
-    // Node copy used by a patch on side `below` of row j at column i: slot and position.
-    auto copySlot = [&](int i, int j, bool below) {
-        const int sl = slitOfNode[static_cast<size_t>(j) * (C + 1) + i];
-        if (below && sl >= 0) return belowBase[sl] + (i - mesh.slits[sl].i0 - 1);
-        return j * (C + 1) + i;
-    };
-    auto copyPos = [&](int i, int j, bool below) {
-        const int sl = slitOfNode[static_cast<size_t>(j) * (C + 1) + i];
-        if (below && sl >= 0) return mesh.slits[sl].below[i - mesh.slits[sl].i0 - 1].pos;
-        return mesh.node(i, j).pos;
-    };
-
-    std::vector<Vec2> q(static_cast<size_t>(nSamples));
-
-    // u: the patch edges along each row. On a slit run there are two edges (above, below).
-    DerivativeFit fitU(nSlotsU, options.tangentLimit);
-    for (int j = 0; j <= R; ++j) {
-        for (int i = 0; i < C; ++i) {
-            const double du = mesh.u[i + 1] - mesh.u[i];
-            const Slit* run = nullptr;
-            if (slitRow[j])
-                for (const Slit& s : mesh.slits)
-                    if (s.row == j && i >= s.i0 && i < s.i1) run = &s;
-            for (int pass = 0; pass < (run ? 2 : 1); ++pass) {
-                const bool below = pass == 1;
-                const int side = run ? (below ? 1 : -1) : 0;
-                for (int k = 0; k < nSamples; ++k)
-                    q[k] = m.position(mesh.u[i] + tau[k] * du, mesh.v[j], side);
-                int slotA = copySlot(i, j, below), slotB = copySlot(i + 1, j, below);
-                const double sign = below ? -1.0 : 1.0;
-                double signA = 1, signB = 1;
-                if (run && i == run->i0) {
-                    slotA = endBase + 2 * slitIndex(run);
-                    signA = sign;
-                }
-                if (run && i + 1 == run->i1) {
-                    slotB = endBase + 2 * slitIndex(run) + 1;
-                    signB = sign;
-                }
-                fitU.addEdge(slotA, signA, slotB, signB, du, copyPos(i, j, below),
-                             copyPos(i + 1, j, below), tau, q);
+    void placeNodes() {
+        for (int j = 0; j <= R_; ++j) {
+            for (int i = 0; i <= C_; ++i) {
+                const bool onSlit = slitAt(i, j) != nullptr;
+                mesh_.node(i, j).pos = m_.position(mesh_.u[i], mesh_.v[j], onSlit ? -1 : 0);
             }
         }
+        for (Slit& s : mesh_.slits)
+            for (int i = s.i0 + 1; i < s.i1; ++i)
+                s.below[static_cast<size_t>(i - s.i0 - 1)].pos =
+                    m_.position(mesh_.u[i], mesh_.v[s.row], 1);
     }
-    const std::vector<Vec2> dU = fitU.solve();
+
+    // One side of the rectangle fitted one-sided (its nodes may move outward): 0 top, 1 bottom
+    // (derivatives along u), 2 left, 3 right (along v).
+    CoverChain sideCover(int side) const {
+        const bool alongU = side < 2;
+        const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R_ : C_);
+        const std::vector<double>& k = alongU ? mesh_.u : mesh_.v;
+        const std::vector<double>& other = alongU ? mesh_.v : mesh_.u;
+        const double fixed = other[fixedIndex];
+        const double inward = fixedIndex == 0 ? 0.5 * (other[1] - other[0])
+                                              : -0.5 * (other[fixedIndex] - other[fixedIndex - 1]);
+        const int N = static_cast<int>(k.size()) - 1;
+        auto fit = [&]() {
+            std::vector<Vec2> P, inside;
+            std::vector<double> delta;
+            for (int a = 0; a <= N; ++a)
+                P.push_back(alongU ? mesh_.node(a, fixedIndex).pos : mesh_.node(fixedIndex, a).pos);
+            for (int a = 0; a < N; ++a) {
+                delta.push_back(k[a + 1] - k[a]);
+                const double mid = 0.5 * (k[a] + k[a + 1]);
+                inside.push_back(alongU ? m_.position(mid, fixed + inward, 0)
+                                        : m_.position(fixed + inward, mid, 0));
+            }
+            auto outlineAt = [&](int a, double t) {
+                const double p = k[a] + t * (k[a + 1] - k[a]);
+                return alongU ? m_.position(p, fixed, 0) : m_.position(fixed, p, 0);
+            };
+            return fitCoverChain(P, delta, outlineAt, inside, tau_, options_.outlineCover,
+                                 options_.outlineSlack, options_.tangentLimit);
+        };
+        const int nSamples = static_cast<int>(tau_.size());
+        return cachedCoverChain({m_.id, side, k, fixed, inward, options_.outlineCover,
+                                 options_.outlineSlack, options_.tangentLimit, nSamples},
+                                fit);
+    }
+
+    // Slot numbering of the derivative fits: nodes, then below copies; for u also the slit
+    // ends' (left, right).
+    void layoutSlots() {
+        nNodes_ = (C_ + 1) * (R_ + 1);
+        int nBelow = 0;
+        for (const Slit& s : mesh_.slits) {
+            belowBase_.push_back(nNodes_ + nBelow);
+            nBelow += s.i1 - s.i0 - 1;
+        }
+        endBase_ = nNodes_ + nBelow;
+        nSlotsU_ = endBase_ + 2 * static_cast<int>(mesh_.slits.size());
+        nSlotsV_ = nNodes_ + nBelow;
+    }
+
+    int slitIndex(const Slit* s) const { return static_cast<int>(s - mesh_.slits.data()); }
+
+    // Node copy used by a patch on side `below` of row j at column i: slot and position.
+    int copySlot(int i, int j, bool below) const {
+        const int sl = slitOfNode_[static_cast<size_t>(j) * (C_ + 1) + i];
+        if (below && sl >= 0) return belowBase_[sl] + (i - mesh_.slits[sl].i0 - 1);
+        return j * (C_ + 1) + i;
+    }
+    Vec2 copyPos(int i, int j, bool below) const {
+        const int sl = slitOfNode_[static_cast<size_t>(j) * (C_ + 1) + i];
+        if (below && sl >= 0) return mesh_.slits[sl].below[i - mesh_.slits[sl].i0 - 1].pos;
+        return mesh_.node(i, j).pos;
+    }
+
+    // u: the patch edges along each row. On a slit run there are two edges (above, below).
+    std::vector<Vec2> fitAlongRows() const {
+        std::vector<Vec2> q(tau_.size());
+        DerivativeFit fitU(nSlotsU_, options_.tangentLimit);
+        for (int j = 0; j <= R_; ++j) {
+            for (int i = 0; i < C_; ++i) {
+                const double du = mesh_.u[i + 1] - mesh_.u[i];
+                const Slit* run = nullptr;
+                if (slitRow_[j])
+                    for (const Slit& s : mesh_.slits)
+                        if (s.row == j && i >= s.i0 && i < s.i1) run = &s;
+                for (int pass = 0; pass < (run ? 2 : 1); ++pass) {
+                    const bool below = pass == 1;
+                    const int side = run ? (below ? 1 : -1) : 0;
+                    for (size_t k = 0; k < tau_.size(); ++k)
+                        q[k] = m_.position(mesh_.u[i] + tau_[k] * du, mesh_.v[j], side);
+                    int slotA = copySlot(i, j, below), slotB = copySlot(i + 1, j, below);
+                    const double sign = below ? -1.0 : 1.0;
+                    double signA = 1, signB = 1;
+                    if (run && i == run->i0) {
+                        slotA = endBase_ + 2 * slitIndex(run);
+                        signA = sign;
+                    }
+                    if (run && i + 1 == run->i1) {
+                        slotB = endBase_ + 2 * slitIndex(run) + 1;
+                        signB = sign;
+                    }
+                    fitU.addEdge(slotA, signA, slotB, signB, du, copyPos(i, j, below),
+                                 copyPos(i + 1, j, below), tau_, q);
+                }
+            }
+        }
+        return fitU.solve();
+    }
 
     // v: the patch edges along each column; an edge leaving a slit row downward starts at the
     // below copy.
-    DerivativeFit fitV(nSlotsV, options.tangentLimit);
-    for (int i = 0; i <= C; ++i) {
-        for (int j = 0; j < R; ++j) {
-            const double dv = mesh.v[j + 1] - mesh.v[j];
-            for (int k = 0; k < nSamples; ++k)
-                q[k] = m.position(mesh.u[i], mesh.v[j] + tau[k] * dv, 0);
-            fitV.addEdge(copySlot(i, j, true), 1, copySlot(i, j + 1, false), 1, dv,
-                         copyPos(i, j, true), copyPos(i, j + 1, false), tau, q);
+    std::vector<Vec2> fitAlongColumns() const {
+        std::vector<Vec2> q(tau_.size());
+        DerivativeFit fitV(nSlotsV_, options_.tangentLimit);
+        for (int i = 0; i <= C_; ++i) {
+            for (int j = 0; j < R_; ++j) {
+                const double dv = mesh_.v[j + 1] - mesh_.v[j];
+                for (size_t k = 0; k < tau_.size(); ++k)
+                    q[k] = m_.position(mesh_.u[i], mesh_.v[j] + tau_[k] * dv, 0);
+                fitV.addEdge(copySlot(i, j, true), 1, copySlot(i, j + 1, false), 1, dv,
+                             copyPos(i, j, true), copyPos(i, j + 1, false), tau_, q);
+            }
         }
+        return fitV.solve();
     }
-    const std::vector<Vec2> dV = fitV.solve();
 
-    for (int k = 0; k < nNodes; ++k) {
-        mesh.nodes[k].posU = dU[k];
-        mesh.nodes[k].posV = dV[k];
-    }
-    for (size_t s = 0; s < mesh.slits.size(); ++s) {
-        Slit& sl = mesh.slits[s];
-        for (size_t k = 0; k < sl.below.size(); ++k) {
-            sl.below[k].posU = dU[belowBase[s] + k];
-            sl.below[k].posV = dV[belowBase[s] + k];
+    void storeDerivatives(const std::vector<Vec2>& dU, const std::vector<Vec2>& dV) {
+        for (int k = 0; k < nNodes_; ++k) {
+            mesh_.nodes[k].posU = dU[k];
+            mesh_.nodes[k].posV = dV[k];
         }
-        sl.left.posU = dU[endBase + 2 * s];
-        sl.right.posU = dU[endBase + 2 * s + 1];
+        for (size_t s = 0; s < mesh_.slits.size(); ++s) {
+            Slit& sl = mesh_.slits[s];
+            for (size_t k = 0; k < sl.below.size(); ++k) {
+                sl.below[k].posU = dU[belowBase_[s] + k];
+                sl.below[k].posV = dV[belowBase_[s] + k];
+            }
+            sl.left.posU = dU[endBase_ + 2 * s];
+            sl.right.posU = dU[endBase_ + 2 * s + 1];
+        }
     }
-    if (!cover.empty()) {
-        // The one-sided sides, each node blended between the plain fit (0) and the one-sided
-        // one (1). A patch along a side that folds where the plain fit's does not (the side's
-        // derivatives turned too far from the grid lines crossing it) gets its side's nodes
-        // blended back toward the plain fit until it does not.
-        std::vector<std::vector<double>> mix(4);
-        for (int side = 0; side < 4; ++side) mix[side].assign(cover[side].pos.size(), 1.0);
-        auto apply = [&](double all) {
-            for (int side = 0; side < 4; ++side) {
-                const bool alongU = side < 2;
-                const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R : C);
-                const CoverChain& cc = cover[side];
-                for (size_t a = 0; a < cc.pos.size(); ++a) {
-                    const double f = all >= 0 ? all : mix[side][a];
-                    const int ia = static_cast<int>(a);
-                    Node& nd = alongU ? mesh.node(ia, fixedIndex) : mesh.node(fixedIndex, ia);
-                    nd.pos = cc.plainPos[a] + f * (cc.pos[a] - cc.plainPos[a]);
-                    (alongU ? nd.posU : nd.posV) =
-                        cc.plainDerivative[a] + f * (cc.derivative[a] - cc.plainDerivative[a]);
+
+    // The sides' nodes, each blended between the plain fit (0) and the one-sided one (1): by
+    // `all` when it is not negative, else by its own mix.
+    void applySideMix(const std::vector<CoverChain>& cover,
+                      const std::vector<std::vector<double>>& mix, double all) {
+        for (int side = 0; side < 4; ++side) {
+            const bool alongU = side < 2;
+            const int fixedIndex = side == 0 || side == 2 ? 0 : (alongU ? R_ : C_);
+            const CoverChain& cc = cover[side];
+            for (size_t a = 0; a < cc.pos.size(); ++a) {
+                const double f = all >= 0 ? all : mix[side][a];
+                const int ia = static_cast<int>(a);
+                Node& nd = alongU ? mesh_.node(ia, fixedIndex) : mesh_.node(fixedIndex, ia);
+                nd.pos = cc.plainPos[a] + f * (cc.pos[a] - cc.plainPos[a]);
+                (alongU ? nd.posU : nd.posV) =
+                    cc.plainDerivative[a] + f * (cc.derivative[a] - cc.plainDerivative[a]);
+            }
+        }
+    }
+
+    bool patchFolds(int i, int j) const {
+        const PatchHermite h = patchHermite(mesh_, i, j);
+        for (int n : {6, 8})
+            for (int a = 0; a < n; ++a)
+                for (int b = 0; b < n; ++b) {
+                    const PatchPoint p = evaluatePatch(h, (a + 0.5) / n, (b + 0.5) / n);
+                    if (cross(p.posS, p.posT) <= 0) return true;
+                }
+        return false;
+    }
+
+    // An edge between nodes blended unequally may stray past its bound: both ends back to the
+    // plain fit. True when any was.
+    bool unblendStrayEdges(const std::vector<CoverChain>& cover, std::vector<std::vector<double>>& mix) const {
+        bool any = false;
+        for (int side = 0; side < 4; ++side) {
+            const CoverChain& cc = cover[side];
+            auto node = [&](int a) -> const Node& {
+                return side < 2 ? mesh_.node(a, side == 0 ? 0 : R_) : mesh_.node(side == 2 ? 0 : C_, a);
+            };
+            for (size_t k = 0; k < cc.delta.size(); ++k) {
+                const int a = static_cast<int>(k);
+                if (mix[side][k] == mix[side][k + 1] && (mix[side][k] == 0 || mix[side][k] == 1))
+                    continue;  // the plain or the one-sided edge: within its bound
+                const Node &na = node(a), &nb = node(a + 1);
+                const Vec2 da = side < 2 ? na.posU : na.posV, db = side < 2 ? nb.posU : nb.posV;
+                if (cc.deviation(a, na.pos, da, nb.pos, db) > cc.bound[k] + 1e-3) {
+                    mix[side][k] = mix[side][k + 1] = 0;
+                    any = true;
                 }
             }
-        };
-        // Patches along the sides: (side, index along it, patch i, j).
+        }
+        return any;
+    }
+
+    // A patch along a side that folds where the plain fit's does not (the side's derivatives
+    // turned too far from the grid lines crossing it) gets its side's nodes blended back toward
+    // the plain fit until it does not.
+    void blendSidesWhereTheyFold(const std::vector<CoverChain>& cover) {
+        std::vector<std::vector<double>> mix(4);
+        for (int side = 0; side < 4; ++side) mix[side].assign(cover[side].pos.size(), 1.0);
         struct SidePatch {
-            int side, a, i, j;
+            int side, a, i, j;  // side, index along it, the patch
         };
         std::vector<SidePatch> along;
-        for (int i = 0; i < C; ++i) along.push_back({0, i, i, 0}), along.push_back({1, i, i, R - 1});
-        for (int j = 0; j < R; ++j) along.push_back({2, j, 0, j}), along.push_back({3, j, C - 1, j});
-        auto folds = [&](int i, int j) {
-            const PatchHermite h = patchHermite(mesh, i, j);
-            for (int n : {6, 8})
-                for (int a = 0; a < n; ++a)
-                    for (int b = 0; b < n; ++b) {
-                        const PatchPoint p = evaluatePatch(h, (a + 0.5) / n, (b + 0.5) / n);
-                        if (cross(p.posS, p.posT) <= 0) return true;
-                    }
-            return false;
-        };
-        apply(0.0);
+        for (int i = 0; i < C_; ++i) along.push_back({0, i, i, 0}), along.push_back({1, i, i, R_ - 1});
+        for (int j = 0; j < R_; ++j) along.push_back({2, j, 0, j}), along.push_back({3, j, C_ - 1, j});
+        applySideMix(cover, mix, 0.0);
         std::vector<uint8_t> plainFolds(along.size());
-        for (size_t p = 0; p < along.size(); ++p) plainFolds[p] = folds(along[p].i, along[p].j);
+        for (size_t p = 0; p < along.size(); ++p) plainFolds[p] = patchFolds(along[p].i, along[p].j);
         bool settled = false;
         for (int pass = 0; pass < 12 && !settled; ++pass) {
-            apply(-1);
+            applySideMix(cover, mix, -1);
             settled = true;
             for (size_t p = 0; p < along.size(); ++p) {
-                if (plainFolds[p] || !folds(along[p].i, along[p].j)) continue;
+                if (plainFolds[p] || !patchFolds(along[p].i, along[p].j)) continue;
                 const double f = pass < 6 ? 0.5 : 0.0;
                 mix[along[p].side][along[p].a] *= f;
                 mix[along[p].side][along[p].a + 1] *= f;
                 settled = false;
             }
-            // An edge between nodes blended unequally may stray past its bound: both back.
-            for (int side = 0; side < 4; ++side) {
-                const CoverChain& cc = cover[side];
-                auto node = [&](int a) -> const Node& {
-                    return side < 2 ? mesh.node(a, side == 0 ? 0 : R) : mesh.node(side == 2 ? 0 : C, a);
-                };
-                for (size_t k = 0; k < cc.delta.size(); ++k) {
-                    const int a = static_cast<int>(k);
-                    if (mix[side][k] == mix[side][k + 1] &&
-                        (mix[side][k] == 0 || mix[side][k] == 1))
-                        continue;  // the plain or the one-sided edge: within its bound
-                    const Node &na = node(a), &nb = node(a + 1);
-                    const Vec2 da = side < 2 ? na.posU : na.posV, db = side < 2 ? nb.posU : nb.posV;
-                    if (cc.deviation(a, na.pos, da, nb.pos, db) > cc.bound[k] + 1e-3) {
-                        mix[side][k] = mix[side][k + 1] = 0;
-                        settled = false;
-                    }
-                }
-            }
+            if (unblendStrayEdges(cover, mix)) settled = false;
         }
-        if (!settled) apply(0.0);
+        if (!settled) applySideMix(cover, mix, 0.0);
     }
-    if (options.unfold) unfoldPatches(mesh);
-    return mesh;
+
+    const GridBuilder::Impl& m_;
+    const GridOptions& options_;
+    GradientMesh mesh_;
+    int C_ = 0, R_ = 0;
+    std::vector<int> slitOfNode_;  // per node: the slit it is inside of, or -1
+    std::vector<uint8_t> slitRow_;  // per row: it holds a slit
+    std::vector<double> tau_;       // sample parameters along every edge
+    std::vector<int> belowBase_;    // per slit: the slot of its first below copy
+    int nNodes_ = 0, endBase_ = 0, nSlotsU_ = 0, nSlotsV_ = 0;
+};
+
+GradientMesh GridBuilder::build(const GridOptions& options) const {
+    return GridAssembly(*impl_, options).run();
 }
 
 GradientMesh buildGrid(const TriMesh& mesh, const ParamMap& map, const GridOptions& options) {

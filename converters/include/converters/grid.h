@@ -90,6 +90,7 @@ public:
 
 private:
     struct Impl;
+    friend class GridAssembly;  // build()'s steps (grid.cpp)
     std::unique_ptr<Impl> impl_;
 };
 
