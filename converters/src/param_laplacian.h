@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "converters/tri_mesh.h"
+#include "meshcore/geometry.h"
 
 namespace gm::detail {
 
@@ -55,7 +56,7 @@ LaplacianSystem assembleLaplacian(const WeightMatrix& W, const std::vector<int>&
 inline double twiceSignedArea(const TriMesh& mesh, const std::vector<Vec2>& uv, size_t t) {
     const auto& tri = mesh.triangles[t];
     const Vec2 a = uv[tri[0]], b = uv[tri[1]], c = uv[tri[2]];
-    return (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    return cross(b - a, c - a);
 }
 
 // Indices of the triangles whose signed area in `uv` is not positive (same rule as
