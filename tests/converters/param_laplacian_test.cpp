@@ -5,7 +5,7 @@
 
 #include "meshcore/error.h"
 #include "param_laplacian.h"
-#include "pipeline_maps/test_meshes.h"
+#include "converters/test_meshes.h"
 
 using namespace gm;
 using namespace gm::detail;

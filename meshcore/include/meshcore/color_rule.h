@@ -3,7 +3,7 @@
 // Besides the colours it reads node positions and knots, which every format stores. A mesh
 // whose colour derivatives follow it may be stored without them, and opens in Inkscape as an
 // editable bicubic mesh with our colours (exactly so under the conditions below; checked against
-// Inkscape 1.2.2 renders in tests/color_rule).
+// Inkscape 1.2.2 renders in tests/meshcore/color_rule_inkscape_test.cpp).
 //
 // WHAT INKSCAPE DOES (1.2, SPMeshNodeArray::bicubic, per colour channel, on a hole-free
 // meshgradient). Take one line of patch corners — a meshrow's corners left to right, or a

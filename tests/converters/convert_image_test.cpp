@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "convert_image/scenes.h"
+#include "converters/scenes.h"
 #include "converters/regions.h"
 #include "formats/raster.h"
 #include "meshcore/split_legacy.h"

@@ -5,8 +5,8 @@
 #include "converters/feature_map.h"
 #include "converters/topology_map.h"
 #include "meshcore/error.h"
-#include "pipeline_maps/plot_uv.h"
-#include "pipeline_maps/test_meshes.h"
+#include "converters/plot_uv.h"
+#include "converters/test_meshes.h"
 
 using namespace gm;
 using namespace gm::test;
