@@ -104,7 +104,7 @@ void viewCommand(const std::vector<std::string>& positional,
     if (outIt == values.end() || outIt->second.empty()) throw std::invalid_argument("missing -o PAGE.html");
     const std::string out = outIt->second;
     if (!isHtmlPath(out))
-        throw std::invalid_argument("view writes an HTML page: -o PAGE.html, got '" + out + "'");
+        throw std::invalid_argument("writes an HTML page: -o PAGE.html, got '" + out + "'");
     std::string imagePath;
     if (const auto it = values.find("--image"); it != values.end()) {
         imagePath = it->second;

@@ -26,7 +26,11 @@ FormatSize measure(const std::string& format, Encode encode, std::string* keep =
 
 }  // namespace
 
-ViewEncodings encodeForView(const Document& doc, const WriteOptions& options) {
+ViewEncodings encodeForView(const Document& doc, const WriteOptions& given) {
+    // The SVG is the default one (bicubic, one SVG patch per patch): the page inlines it, and
+    // the exact-colour SVG of a large mesh takes longer to encode than the conversion.
+    WriteOptions options = given;
+    options.svgColors = "bicubic";
     const FormatRegistry& formats = FormatRegistry::builtin();
     ViewEncodings out;
     out.sizes.push_back(measure(".gmb", [&] { return encodeGmb(doc, false); }));

@@ -21,7 +21,8 @@ struct ViewEncodings {
     std::string svg;  // the SVG as `convert` writes it (empty when it could not be written)
 };
 
-// Encodes `doc` as each format with `options` (its maxOutputBytes included). A Hermite mesh's
+// Encodes `doc` as each format with `options` (its maxOutputBytes included; the SVG is always
+// the default, bicubic one). A Hermite mesh's
 // SVG is refitted to the bicubic rule first, as `convert` does (a line on standard error says
 // how far that is from the Hermite render). A writer's refusal is recorded, not thrown.
 ViewEncodings encodeForView(const Document& doc, const WriteOptions& options);
