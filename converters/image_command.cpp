@@ -241,11 +241,13 @@ ViewFigures conversionFigures(const std::string& in, const std::string& out, boo
     ViewFigures f;
     f.title = std::filesystem::path(out).filename().string();
     f.sourceName = std::filesystem::path(in).filename().string();
-    f.colorModel = colorModeName(co.colors);
     f.haveError = true;
     f.meanAbs = report.error.meanAbs;
     f.psnr = report.error.psnr;
-    f.errorOver = segment ? "every pixel of the image" : "the object's pixels (mask: " + report.maskSource + ")";
+    const std::string objectFrom = report.maskSource == "mask"    ? "the mask file"
+                                   : report.maskSource == "alpha" ? "the alpha channel"
+                                                                  : "foreground extraction";
+    f.errorOver = segment ? "every pixel of the image" : "the object's pixels (from " + objectFrom + ")";
     const StageSeconds& t = report.seconds;
     // With --segment, regions are converted side by side: their stages are summed.
     const std::string sum = segment ? " (sum over regions)" : "";
@@ -259,7 +261,7 @@ ViewFigures conversionFigures(const std::string& in, const std::string& out, boo
         f.seconds.emplace_back(stage + sum, seconds);
     f.seconds.emplace_back("write", times.write);
     f.seconds.emplace_back("end to end", times.endToEnd);
-    f.facts = {{"output", out}, {"target E", num(co.maxError)},
+    f.facts = {{"output", out}, {"--colors", colorModeName(co.colors)}, {"target E", num(co.maxError)},
                {"patch budget", std::to_string(co.maxPatches) + (segment ? " per region" : "")}};
     if (segment) f.facts.emplace_back("regions", std::to_string(report.regions.size()));
     return f;
