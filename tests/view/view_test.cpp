@@ -127,6 +127,44 @@ TEST_CASE("view: convert --report PAGE.html writes the page with the conversion'
     CHECK(requireStageShowsRender(d / "apple.html", d / "render.png", d) == "");
 }
 
+// The SVG writer will carry a mesh script defining window.gradmeshMeshes (issue 23): a stand-in
+// for it, put into the page's inline SVG, fills the mesh shapes red when its redraw() is
+// called, and opens the page at 2x (before the page's own script reads the address).
+const char* const kMeshScriptStandIn =
+    "<script>history.replaceState(null, '', '#zoom=2');"
+    "window.gradmeshMeshes = {redraw: function () {"
+    "  var shapes = document.querySelectorAll('#gv-vector path');"
+    "  for (var k = 0; k != shapes.length; ++k) shapes[k].setAttribute('fill', '#ff0000');"
+    "}};</script>";
+
+TEST_CASE("view: zoomed in, the page shows the inline SVG and has the SVG's mesh script redraw it") {
+    requireChromium();
+    const fs::path d = scratchDir("view_", "mesh_script");
+    REQUIRE(runGradmesh("sample " + q(d / "sample.gmb"), d).code == 0);
+    REQUIRE(runGradmesh("view " + q(d / "sample.gmb") + " -o " + q(d / "page.html"), d).code == 0);
+    std::string page = slurp(d / "page.html");
+    const size_t svg = page.find("<svg xmlns=\"http://www.w3.org/2000/svg\"");
+    REQUIRE(svg != std::string::npos);
+    page.insert(page.find('>', svg) + 1, kMeshScriptStandIn);
+    { std::ofstream(d / "scripted.html", std::ios::binary) << page; }
+
+    const BrowserShot shot =
+        browserScreenshot(Browser::Chromium, d / "scripted.html", kWindowWidth, kWindowHeight, d / "shot.png", d / "browser");
+    REQUIRE(shot.code == 0);
+    CHECK(shot.console == "");
+    // The stage at 2x: mostly the red shapes (our render has no pure red).
+    const gm::RgbaImage screen = gm::readImage((d / "shot.png").string());
+    const gm::RgbaImage stage = crop(screen, kStageLeft, kStageTop, 512, 512);
+    size_t red = 0;
+    for (int y = 0; y < stage.height; ++y)
+        for (int x = 0; x < stage.width; ++x) {
+            const float* p = stage.at(x, y);
+            red += p[0] > 0.99f && p[1] < 0.01f && p[2] < 0.01f;
+        }
+    INFO(red << " red pixels of " << 512 * 512);
+    CHECK(red > 512 * 512 / 2);
+}
+
 TEST_CASE("view: bad input is refused with a message, and nothing is written") {
     const fs::path d = scratchDir("view_", "bad");
     REQUIRE(runGradmesh("sample " + q(d / "sample.gmb"), d).code == 0);
