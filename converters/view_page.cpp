@@ -78,8 +78,13 @@ std::string inlineSvg(const std::string& svg) {
     return start == std::string::npos ? std::string() : svg.substr(start);
 }
 
+// What the page holds besides the figures.
+struct PageParts {
+    bool svgInline = false, meshLines = false;
+};
+
 std::string figuresJson(const Document& doc, const ViewFigures& f, const ViewEncodings& encodings,
-                        bool svgInline, const std::vector<std::pair<std::string, double>>& pageSeconds) {
+                        PageParts parts, const std::vector<std::pair<std::string, double>>& pageSeconds) {
     std::string s = "{";
     s += "\"title\":" + jsonQuote(f.title);
     s += ",\"source\":" + jsonQuote(f.sourceName);
@@ -95,7 +100,8 @@ std::string figuresJson(const Document& doc, const ViewFigures& f, const ViewEnc
     s += ",\"seconds\":" + pairsJson(f.seconds) + ",\"pageSeconds\":" + pairsJson(pageSeconds);
     s += ",\"bytes\":" + sizesJson(encodings.sizes);
     s += ",\"facts\":" + factsJson(f.facts);
-    s += ",\"svgInline\":" + std::string(svgInline ? "true" : "false");
+    s += ",\"svgInline\":" + std::string(parts.svgInline ? "true" : "false");
+    s += ",\"meshLines\":" + std::string(parts.meshLines ? "true" : "false");
     return s + "}";
 }
 
@@ -148,14 +154,15 @@ std::string buildViewPage(const Document& doc, const RgbaImage* source, ViewFigu
 
     t0 = Clock::now();
     values["render"] = pngDataUri(render);
-    values["meshpath"] = meshLinesPathData(doc);
+    const bool meshLines = documentPatches(doc) <= kMaxMeshLinePatches;
+    values["meshpath"] = meshLines ? meshLinesPathData(doc) : "";
     const bool svgInline = !encodings.svg.empty() && encodings.svg.size() <= kMaxInlineSvgBytes;
     values["svg"] = svgInline ? inlineSvg(encodings.svg) : "";
     values["width"] = std::to_string(doc.width);
     values["height"] = std::to_string(doc.height);
     values["title"] = htmlEscape(figures.title);
     pageSeconds.emplace_back("page", since(t0));
-    values["data"] = figuresJson(doc, figures, encodings, svgInline, pageSeconds);
+    values["data"] = figuresJson(doc, figures, encodings, {svgInline, meshLines}, pageSeconds);
     return fillTemplate(kViewPageTemplate, values);
 }
 

@@ -32,6 +32,10 @@ struct ViewFigures {
 // zoom then scales the render.
 constexpr size_t kMaxInlineSvgBytes = size_t(8) << 20;
 
+// Above this many patches the mesh lines are left out: a browser draws such an overlay slowly,
+// and its path data takes about 40 bytes a patch.
+constexpr uint64_t kMaxMeshLinePatches = 100000;
+
 // The page for `doc` (rendered at 1x here), with `source` (the same size as the canvas) when
 // given. The byte figures are the writers' in-memory encodings under `options` (its output
 // limit included). The time spent building the page joins the figures.

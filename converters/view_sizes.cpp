@@ -52,7 +52,13 @@ ViewEncodings encodeForView(const Document& doc, const WriteOptions& given) {
         out.sizes.push_back({".svg", -1, refusal});
         out.sizes.push_back({".svgz", -1, refusal});
     }
+    const uint64_t patches = documentPatches(doc);
     for (const char* ext : {".pdf", ".eps"}) {
+        if (patches > kMaxPostScriptPatches) {
+            out.sizes.push_back({ext, -1, "not measured above " + std::to_string(kMaxPostScriptPatches) +
+                                              " patches (convert to it to know)"});
+            continue;
+        }
         const std::string path = std::string("page") + ext;
         const MeshFormat& writer = *formats.forPath(path);
         out.sizes.push_back(measure(ext, [&] { return writer.encode(doc, path, options); }));

@@ -16,6 +16,11 @@ struct FormatSize {
     std::string note;    // why not (over --max-output-bytes, a writer's refusal), or a remark
 };
 
+// Above this many patches the PDF and EPS are not encoded (their size is noted as not
+// measured): each takes about 1 KB and 0.1 ms per patch, so a document at the patch limit would
+// cost gigabytes and minutes for two figures.
+constexpr uint64_t kMaxPostScriptPatches = 50000;
+
 struct ViewEncodings {
     std::vector<FormatSize> sizes;
     std::string svg;  // the SVG as `convert` writes it (empty when it could not be written)
