@@ -249,16 +249,22 @@ ViewFigures conversionFigures(const std::string& in, const std::string& out, boo
                                                                   : "foreground extraction";
     f.errorOver = segment ? "every pixel of the image" : "the object's pixels (from " + objectFrom + ")";
     const StageSeconds& t = report.seconds;
-    // With --segment, regions are converted side by side: their stages are summed.
-    const std::string sum = segment ? " (sum over regions)" : "";
     f.seconds = {{"read", times.read}};
-    if (segment) f.seconds.emplace_back("segmentation", segReport.segmentSeconds);
-    else f.seconds.emplace_back("mask", times.mask);
-    for (const auto& [stage, seconds] : {std::pair<const char*, double>{"regions", t.regions},
-                                         {"corners", t.corners}, {"triangulate", t.triangulate},
-                                         {"topology", t.topology}, {"feature", t.feature},
-                                         {"mesh", t.mesh}})
+    if (segment) {
+        // Regions are converted side by side: their stages are summed, and the wall time of
+        // the whole is given after them. t.regions holds the segmentation too.
+        f.seconds.emplace_back("segmentation", segReport.segmentSeconds);
+        f.seconds.emplace_back("regions", segReport.regionsSeconds);
+    } else {
+        f.seconds.emplace_back("mask", times.mask);
+        f.seconds.emplace_back("regions", t.regions);
+    }
+    const std::string sum = segment ? " (sum)" : "";
+    for (const auto& [stage, seconds] :
+         {std::pair<const char*, double>{"corners", t.corners}, {"triangulate", t.triangulate},
+          {"topology", t.topology}, {"feature", t.feature}, {"mesh", t.mesh}})
         f.seconds.emplace_back(stage + sum, seconds);
+    if (segment) f.seconds.emplace_back("regions converted (wall)", segReport.convertSeconds);
     f.seconds.emplace_back("write", times.write);
     f.seconds.emplace_back("end to end", times.endToEnd);
     f.facts = {{"output", out}, {"--colors", colorModeName(co.colors)}, {"target E", num(co.maxError)},
