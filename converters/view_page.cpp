@@ -145,7 +145,7 @@ std::string buildViewPage(const Document& doc, const RgbaImage* source, ViewFigu
         }
         values["source"] = pngDataUri(*source);
         values["errormap"] = pngDataUri(map.image);
-        pageSeconds.emplace_back("error map", since(t0));
+        pageSeconds.emplace_back("image and error map", since(t0));
     }
 
     t0 = Clock::now();
