@@ -193,6 +193,10 @@ TEST_CASE("view: bad input is refused with a message, and nothing is written") {
     const Run same = runGradmesh("view " + q(d / "mesh.html") + " -o " + q(d / "mesh.html"), d);
     CHECK(same.code == 1);
     CHECK(fs::file_size(d / "mesh.html") == fs::file_size(d / "sample.gmb"));
+    const Run help = runGradmesh("view --help", d);
+    CHECK(help.code == 0);
+    CHECK(help.out.find("usage: gradmesh view") != std::string::npos);
+    CHECK(runGradmesh("--help", d).out.find("view IN -o PAGE.html") != std::string::npos);
     // No temporaries left beside the outputs.
     for (const auto& e : fs::directory_iterator(d))
         CHECK(e.path().filename().string().find("gradmesh-tmp") == std::string::npos);
