@@ -165,6 +165,20 @@ TEST_CASE("view: zoomed in, the page shows the inline SVG and has the SVG's mesh
     CHECK(red > 512 * 512 / 2);
 }
 
+TEST_CASE("view: reads .svg and .svgz as well as .gmb") {
+    const fs::path d = scratchDir("view_", "svg");
+    REQUIRE(runGradmesh("sample " + q(d / "sample.gmb"), d).code == 0);
+    for (const char* name : {"sample.svg", "sample.svgz"}) {
+        INFO(name);
+        REQUIRE(runGradmesh("convert " + q(d / "sample.gmb") + " -o " + q(d / name), d).code == 0);
+        const Run r = runGradmesh("view " + q(d / name) + " -o " + q(d / "page.html"), d);
+        CHECK(r.code == 0);
+        const std::string page = slurp(d / "page.html");
+        CHECK(figure(page, "\"patches\":") > 0);  // holed meshes come back as hole-free pieces
+        CHECK(page.find("<meshgradient") != std::string::npos);
+    }
+}
+
 TEST_CASE("view: bad input is refused with a message, and nothing is written") {
     const fs::path d = scratchDir("view_", "bad");
     REQUIRE(runGradmesh("sample " + q(d / "sample.gmb"), d).code == 0);
