@@ -22,6 +22,7 @@
 #include "formats/raster.h"
 #include "command_limits.h"
 #include "image_command.h"
+#include "view_command.h"
 #include "formats/registry.h"
 #include "formats/svg.h"
 #include "formats/temp_registry.h"
@@ -49,6 +50,7 @@ const char* kMainHelp =
     "  convert IN -o OUT     convert an image (.png .jpg ...) or a mesh file to .gmb .svg .eps .pdf .png\n"
     "  render IN -o OUT.png  re-render a mesh file as a raster image\n"
     "  info IN               meshes, grid sizes, holes, patches, bytes\n"
+    "  view IN -o PAGE.html  a page to look at a mesh file: render, mesh lines, zoom, figures\n"
     "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
     "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
     "\n"
@@ -103,6 +105,7 @@ const std::map<std::string, std::string> kHelp = {
      "                      transparent pixels (seams between meshes) then count as the\n"
      "                      background shows through them\n"
      "  --erode N           leave out pixels within N px of the compared area's edge\n"},
+    {"view", gm::kViewHelp},
     {"sample",
      "usage: gradmesh sample OUT\n"
      "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
@@ -514,6 +517,18 @@ int main(int argc, char** argv) {
         if (command == "info") return cmdInfo(parseArgs(command, argc, argv, {}, {}));
         if (command == "compare")
             return cmdCompare(parseArgs(command, argc, argv, {"--mask", "--background", "--erode"}, {}));
+        if (command == "view") {
+            std::set<std::string> valued = gm::kViewValuedOptions;
+            valued.insert("--output");
+            valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
+            const Args a = parseArgs(command, argc, argv, valued, {});
+            try {
+                gm::viewCommand(a.positional, a.values);
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(e.what());
+            }
+            return 0;
+        }
         if (command == "sample") return cmdSample(parseArgs(command, argc, argv, {}, {}));
     } catch (const UsageError& e) {
         std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),

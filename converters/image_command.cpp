@@ -23,6 +23,8 @@
 #include "formats/svg.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
+#include "view_command.h"
+#include "view_page.h"
 
 namespace gm {
 
@@ -47,6 +49,7 @@ const char* kImageConvertHelp =
     "                          (the paper's: node colours sampled, bicubic). fit and rule are\n"
     "                          the former names of hermite and bicubic\n"
     "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
+    "  --report R.html         the same conversion as a page to look at (gradmesh view --help)\n"
     "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
     "  --min-area N            drop object components under N pixels (default 64)\n"
     "  --min-hole N            fill holes under N pixels (default 16)\n"
@@ -225,6 +228,49 @@ ImageProbe probeInput(const std::string& path, bool segment, uint64_t maxPixels,
         std::fprintf(stderr, "gradmesh convert: warning: %s has %d pages; only the first is converted\n",
                      path.c_str(), probe.pages);
     return probe;
+}
+
+// The figures of a conversion as its view page (--report PAGE.html) shows them.
+struct ConversionTimes {
+    double read = 0, mask = 0, write = 0, endToEnd = 0;
+};
+ViewFigures conversionFigures(const std::string& in, const std::string& out, bool segment,
+                              const ConvertOptions& co, const SegmentConvertReport& segReport,
+                              const ConversionTimes& times) {
+    const ConvertReport& report = segReport.convert;
+    ViewFigures f;
+    f.title = std::filesystem::path(out).filename().string();
+    f.sourceName = std::filesystem::path(in).filename().string();
+    f.haveError = true;
+    f.meanAbs = report.error.meanAbs;
+    f.psnr = report.error.psnr;
+    const std::string objectFrom = report.maskSource == "mask"    ? "the mask file"
+                                   : report.maskSource == "alpha" ? "the alpha channel"
+                                                                  : "foreground extraction";
+    f.errorOver = segment ? "every pixel of the image" : "the object's pixels (from " + objectFrom + ")";
+    const StageSeconds& t = report.seconds;
+    f.seconds = {{"read", times.read}};
+    if (segment) {
+        // Regions are converted side by side: their stages are summed, and the wall time of
+        // the whole is given after them. t.regions holds the segmentation too.
+        f.seconds.emplace_back("segmentation", segReport.segmentSeconds);
+        f.seconds.emplace_back("regions", segReport.regionsSeconds);
+    } else {
+        f.seconds.emplace_back("mask", times.mask);
+        f.seconds.emplace_back("regions", t.regions);
+    }
+    const std::string sum = segment ? " (sum)" : "";
+    for (const auto& [stage, seconds] :
+         {std::pair<const char*, double>{"corners", t.corners}, {"triangulate", t.triangulate},
+          {"topology", t.topology}, {"feature", t.feature}, {"mesh", t.mesh}})
+        f.seconds.emplace_back(stage + sum, seconds);
+    if (segment) f.seconds.emplace_back("regions converted (wall)", segReport.convertSeconds);
+    f.seconds.emplace_back("write", times.write);
+    f.seconds.emplace_back("end to end", times.endToEnd);
+    f.facts = {{"output", out}, {"--colors", colorModeName(co.colors)}, {"target E", num(co.maxError)},
+               {"patch budget", std::to_string(co.maxPatches) + (segment ? " per region" : "")}};
+    if (segment) f.facts.emplace_back("regions", std::to_string(report.regions.size()));
+    return f;
 }
 
 }  // namespace
@@ -410,6 +456,15 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         return;
     }
     const double endToEnd = since(tStart);  // what follows only measures for the report
+    if (isHtmlPath(reportPath)) {
+        const ViewFigures figures = conversionFigures(
+            in, out, segment, co, segReport, {readSeconds, maskSeconds, writeSeconds, endToEnd});
+        const std::string page = buildViewPage(doc, &image, figures, writeOptions);
+        requireOutputWithinLimit(page.size(), writeOptions, reportPath);
+        outputs.write(reportPath, page);
+        outputs.commit();
+        return;
+    }
     const int compactLevel = wo.compact ? wo.compactLevel : 0;
     if (!haveCompact) compact = compactAt(compactLevel);
     std::ostringstream s;

@@ -25,6 +25,8 @@ $gm convert out/apple.gmb -o out/apple.pdf
 $gm render out/apple.gmb -o out/apple.png --background white
 $gm render out/apple.gmb -o out/apple-mesh.png --scale 2 --background white --mesh-lines '#2040ff'   # the mesh's grid
 $gm compare samples/apple.jpg out/apple.png --mask samples/apple_mask.png
+# A page to look at it (open in a browser): image, render, mesh lines, error heat map, zoom, figures.
+$gm view out/apple.gmb --image samples/apple.jpg -o out/apple.html
 # An object with holes: one mesh per region, one slit per hole; --legacy writes hole-free pieces.
 $gm convert samples/pic1.png -o out/pic1.gmb --report out/pic1.json
 $gm info out/pic1.gmb
@@ -37,6 +39,7 @@ $gm convert samples/fruits.jpg --segment -o out/fruits.gmb --report out/fruits.j
 $gm convert out/fruits.gmb -o out/fruits.svg
 $gm render out/fruits.gmb -o out/fruits.png
 $gm compare samples/fruits.jpg out/fruits.png
+$gm view out/fruits.gmb --image samples/fruits.jpg -o out/fruits.html
 # A whole image at about 1 KB: 50 patches shared out over the regions, compact level 6 (its
 # colours refitted to the file's grids).
 $gm convert samples/HappyFish.jpg --segment --max-error 2 --total-patches 50 --compact-level 6 -o out/fish-1k.gmb
