@@ -81,7 +81,7 @@ double smoothstep(double t) {
 
 // Blob shading: a diagonal orange → crimson ramp, lit from the upper left (radial falloff) with
 // a soft highlight.
-Rgb blobColour(double x, double y) {
+Rgb blobColor(double x, double y) {
     const double t = smoothstep((x + 0.6 * y - 120) / 520);
     const Rgb base = mix({0.98, 0.62, 0.18}, {0.62, 0.10, 0.32}, t);
     const double r = std::hypot(x - 190, y - 170);
@@ -91,7 +91,7 @@ Rgb blobColour(double x, double y) {
 }
 
 // Disc shading: brass, lit from the upper left, darker towards the rim, a faint linear tint.
-Rgb discColour(double x, double y) {
+Rgb discColor(double x, double y) {
     const double cx = 240, cy = 240;
     const double r = std::hypot(x - cx, y - cy) / 220;
     const double l = std::hypot(x - 170, y - 150);
@@ -216,12 +216,12 @@ int main(int argc, char** argv) {
                          if (e.inside(x, y)) return true;
                      return false;
                  },
-                 blobColour),
+                 blobColor),
              out / "blob.png");
 
         const Circle disc{240, 240, 220};
         const std::vector<Circle> holes = amuletHoles();
-        save(paint(480, 480, [&](double x, double y) { return disc.inside(x, y); }, discColour),
+        save(paint(480, 480, [&](double x, double y) { return disc.inside(x, y); }, discColor),
              out / "disc.png");
         save(paint(
                  480, 480,
@@ -231,13 +231,13 @@ int main(int argc, char** argv) {
                          if (h.inside(x, y)) return false;
                      return true;
                  },
-                 discColour),
+                 discColor),
              out / "amulet.png");
         const Circle inner{240, 240, 95};
         save(paint(
                  480, 480,
                  [&](double x, double y) { return disc.inside(x, y) && !inner.inside(x, y); },
-                 discColour),
+                 discColor),
              out / "annulus.png");
 
         const std::filesystem::path in(samples);

@@ -16,7 +16,7 @@
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
-#include "converters/visible_colours.h"
+#include "converters/visible_colors.h"
 #include "formats/atomic_file.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
@@ -146,7 +146,8 @@ std::string secondsJson(const StageSeconds& t) {
     s << "{\"regions\": " << num(t.regions) << ", \"corners\": " << num(t.corners)
       << ", \"triangulate\": " << num(t.triangulate) << ", \"topology\": " << num(t.topology)
       << ", \"feature\": " << num(t.feature) << ", \"mesh\": " << num(t.mesh)
-      << ", \"T\": " << num(t.T()) << ", \"P\": " << num(t.P()) << ", \"M\": " << num(t.M())
+      << ", \"T\": " << num(t.triangulationStages()) << ", \"P\": " << num(t.mapStages())
+      << ", \"M\": " << num(t.meshStages())
       << ", \"total\": " << num(t.total()) << "}";
     return s.str();
 }
@@ -387,7 +388,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         return measuredMask;
     };
     // A compact file at `level`: its colours refitted to the quantised geometry and slopes, over
-    // the measured pixels where each mesh is on top (visible_colours.h), and its figures.
+    // the measured pixels where each mesh is on top (visible_colors.h), and its figures.
     struct Compact {
         Document doc;  // what the file holds
         std::string bytes;

@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "converters/convert_image.h"
-#include "converters/visible_colours.h"
+#include "converters/visible_colors.h"
 #include "meshcore/bicubic_colors.h"
 #include "meshcore/render.h"
 

@@ -9,7 +9,7 @@
 #include <new>
 #include <thread>
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "converters/neck.h"
 #include "converters/regions.h"
 #include "meshcore/error.h"

@@ -411,7 +411,7 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
         double step = 0;
     };
     std::vector<std::unordered_map<int, Border>> adj(C);
-    auto colourStep = [&](size_t p, size_t q) {
+    auto colorStep = [&](size_t p, size_t q) {
         double d = 0;
         for (int k = 0; k < 3; ++k) {
             const double e = static_cast<double>(colour[p][k]) - colour[q][k];
@@ -434,12 +434,12 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
             const size_t p = static_cast<size_t>(y) * W + x;
             if (x + 1 < W && cc.of[p] != cc.of[p + 1]) {
                 link(cc.of[p], cc.of[p + 1],
-                     colourStep(p - (x > 0 ? 1 : 0), p + 1 + (x + 2 < W ? 1 : 0)));
+                     colorStep(p - (x > 0 ? 1 : 0), p + 1 + (x + 2 < W ? 1 : 0)));
                 in[x] = in[x + 1] = 0;
             }
             if (y + 1 < H && cc.of[p] != cc.of[p + W]) {
                 link(cc.of[p], cc.of[p + W],
-                     colourStep(p - (y > 0 ? W : 0), p + W + (y + 2 < H ? W : 0)));
+                     colorStep(p - (y > 0 ? W : 0), p + W + (y + 2 < H ? W : 0)));
                 in[x] = 0;
                 interior.ptr<uint8_t>(y + 1)[x] = 0;
             }

@@ -44,7 +44,7 @@ struct Candidate {
 // Mean colour of the small pixels labelled `label` in the 5×5 window around (x, y): its
 // interior pixels when there are any (border pixels of the small image mix both sides'
 // colours), else all of them.
-Candidate localColour(const cv::Mat& smallBgr, const SmallLabels& labels, int x, int y,
+Candidate localColor(const cv::Mat& smallBgr, const SmallLabels& labels, int x, int y,
                       int label) {
     double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
     int count[2] = {0, 0};
@@ -68,7 +68,7 @@ int candidatesAt(const cv::Mat& smallBgr, const SmallLabels& labels, int x, int 
                  std::array<Candidate, 9>& out) {
     std::array<int, 25> distinct;
     const int n = std::min(9, labels.distinctAround(x, y, 1, distinct));
-    for (int i = 0; i < n; ++i) out[i] = localColour(smallBgr, labels, x, y, distinct[i]);
+    for (int i = 0; i < n; ++i) out[i] = localColor(smallBgr, labels, x, y, distinct[i]);
     return n;
 }
 

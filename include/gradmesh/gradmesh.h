@@ -28,4 +28,4 @@
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"
-#include "converters/visible_colours.h"
+#include "converters/visible_colors.h"

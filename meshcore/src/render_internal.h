@@ -41,7 +41,7 @@ struct Poly2 {
 // The colour of a patch, all channels at once: Σ k[m][n][channel] s^m t^n. Channel-minor
 // storage lets the compiler vectorise Horner's rule across channels (the fourth lane is
 // padding); this is the renderer's per-pixel inner loop.
-struct ColourPoly {
+struct ColorPoly {
     double k[4][4][4];
     void eval(double s, double t, float out[3]) const {
         double q[4][4];
@@ -60,7 +60,7 @@ struct PreparedPatch {
     double minX = 0, minY = 0, maxX = 0, maxY = 0;  // control-net hull, output pixels
     PatchHermite hermite;                           // positions in output pixels
     Poly2 x, y;                                     // position, output pixels
-    ColourPoly colour;                              // sRGB 0–1
+    ColorPoly colour;                              // sRGB 0–1
 };
 
 struct PreparedMesh {

@@ -702,7 +702,7 @@ TEST_CASE("segment mode, compact level 6: the file's colours are refitted to its
           "[cli_convert][segment]") {
     // The report's compact figures are the written file's: its bytes, and its PSNR as the PNG
     // render of the file measures it (colours refitted to the quantised geometry, see
-    // converters/visible_colours.h).
+    // converters/visible_colors.h).
     const fs::path d = tmpDir("segmentcompact");
     const std::string in = std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg";
     const Run r = gradmesh("convert " + q(in) + " --segment --max-error 2 --max-patches 6 --compact-level 6 -o " +

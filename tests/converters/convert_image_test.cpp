@@ -238,7 +238,7 @@ TEST_CASE("21 holes: one mesh, 21 slits, legacy pieces render like the whole", "
     const RgbaImage b = renderDocument(split, opt).image;
     REQUIRE(a.width == b.width);
     REQUIRE(a.height == b.height);
-    double colourDiff = 0;
+    double colorDiff = 0;
     long covered = 0, onlyWhole = 0, onlyPieces = 0;
     for (size_t k = 0; k < a.pixels.size(); k += 4) {
         const bool inA = a.pixels[k + 3] > 0, inB = b.pixels[k + 3] > 0;
@@ -246,7 +246,7 @@ TEST_CASE("21 holes: one mesh, 21 slits, legacy pieces render like the whole", "
         ++covered;
         if (inA && inB) {
             for (int c = 0; c < 4; ++c)
-                colourDiff = std::max(colourDiff, double(std::fabs(a.pixels[k + c] - b.pixels[k + c])));
+                colorDiff = std::max(colorDiff, double(std::fabs(a.pixels[k + c] - b.pixels[k + c])));
             continue;
         }
         const int x = static_cast<int>(k / 4 % a.width), y = static_cast<int>(k / 4 / a.width);
@@ -261,9 +261,9 @@ TEST_CASE("21 holes: one mesh, 21 slits, legacy pieces render like the whole", "
     for (size_t k = 0; k < c.pixels.size(); ++k) sum += std::fabs(c.pixels[k] - d.pixels[k]);
     note("21 holes: split vs whole without AA: %ld px painted by either, %ld by the whole only, "
          "%ld by the pieces only, max diff where both paint %.3f/255; with AA mean diff %.4f/255",
-         covered, onlyWhole, onlyPieces, colourDiff * 255, sum / c.pixels.size() * 255);
+         covered, onlyWhole, onlyPieces, colorDiff * 255, sum / c.pixels.size() * 255);
     CHECK(covered > 100000);
-    CHECK(colourDiff <= 1.0 / 255.0);
+    CHECK(colorDiff <= 1.0 / 255.0);
     // Without anti-aliasing, separate meshes tessellate a shared row independently (within the
     // renderer's 1/8 px position tolerance), so a few pixel centres lying on a cut row fall
     // into neither polygon. Measured: 19 of ~140,000 (0.014%) at the default tolerance.

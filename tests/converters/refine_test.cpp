@@ -6,7 +6,7 @@
 #include <ctime>
 #include <sstream>
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "converters/grid.h"
 #include "meshcore/validate.h"
 #include "synthetic_region.h"

@@ -69,7 +69,7 @@ inline GradientMesh curvedMesh(int C, int R, double x0, double y0, double w, dou
 // Replaces every colour datum by the same linear function of the position datum, so that the
 // colour at any point of the mesh is exactly grad·position + c0 (Ferguson evaluation is linear
 // in the node data and reproduces constants).
-inline void setLinearColour(GradientMesh& m, Vec3 gx, Vec3 gy, Vec3 c0) {
+inline void setLinearColor(GradientMesh& m, Vec3 gx, Vec3 gy, Vec3 c0) {
     auto lin = [&](Vec2 p) { return p.x * gx + p.y * gy; };
     auto apply = [&](Node& n) {
         n.col = lin(n.pos) + c0;

@@ -44,7 +44,7 @@ TEST_CASE("a colour linear in position renders exactly on affine geometry", "[re
     // Uneven knots and a sheared grid: the patches differ, the colour field does not.
     GradientMesh m = affineMesh({0, 1, 2.5, 3, 5}, {0, 0.5, 2, 3}, {12.3, 9.7}, {18, 3}, {-4, 25});
     const Vec3 gx{0.004, -0.003, 0.001}, gy{0.002, 0.005, -0.004}, c0{0.1, 0.2, 0.6};
-    setLinearColour(m, gx, gy, c0);
+    setLinearColor(m, gx, gy, c0);
     for (double scale : {1.0, 3.0}) {
         const RenderResult r = renderMesh(m, 128, 96, withScale(scale));
         int count = 0;
@@ -62,7 +62,7 @@ TEST_CASE("a colour linear in position renders within 1/255 on curved geometry",
     // error times the colour gradient stays below 1/255, not just below 1/8 px.
     GradientMesh m = curvedMesh(6, 5, 20, 15, 200, 160, 1.5);
     const Vec3 gx{1.0 / 8, -1.0 / 300, 0.0}, gy{0.0, 1.0 / 9, 1.0 / 250};
-    setLinearColour(m, gx, gy, {-0.5, -0.3, 0.0});
+    setLinearColor(m, gx, gy, {-0.5, -0.3, 0.0});
     for (double scale : {1.0, 2.0}) {
         const RenderResult r = renderMesh(m, 240, 200, withScale(scale));
         int count = 0;
@@ -221,7 +221,7 @@ TEST_CASE("samples name the patch and parameters the colour was evaluated at", "
             const RenderResult r = renderMesh(*m, 170, 140, withScale(scale, true));
             REQUIRE(r.samples.size() == r.image.pixels.size() / 4);
             int painted = 0, centres = 0;
-            double worstColour = 0, worstPosition = 0;
+            double worstColor = 0, worstPosition = 0;
             for (int y = 0; y < r.image.height; ++y)
                 for (int x = 0; x < r.image.width; ++x) {
                     const PixelSample& s = r.samples[static_cast<size_t>(y) * r.image.width + x];
@@ -237,7 +237,7 @@ TEST_CASE("samples name the patch and parameters the colour was evaluated at", "
                     const int C = m->columns();
                     const PatchPoint e = evaluatePatch(*m, s.patch % C, s.patch / C, s.s, s.t);
                     for (int c = 0; c < 3; ++c)
-                        worstColour = std::max(worstColour, std::fabs(e.col[c] - p[c]));
+                        worstColor = std::max(worstColor, std::fabs(e.col[c] - p[c]));
                     if (s.centre) {
                         ++centres;
                         const Vec2 centre{(x + 0.5) / scale, (y + 0.5) / scale};
@@ -246,7 +246,7 @@ TEST_CASE("samples name the patch and parameters the colour was evaluated at", "
                 }
             CHECK(painted > 8000 * scale * scale);
             CHECK(centres > 0.95 * painted);
-            CHECK(worstColour <= 1e-5);
+            CHECK(worstColor <= 1e-5);
             // The (s,t) of a covered centre maps to within the tessellation tolerance (1/8 output
             // pixel) of it, plus the rasteriser's 1/512-pixel vertex snapping.
             CHECK(worstPosition <= 0.125 + 0.005);
@@ -320,7 +320,7 @@ TEST_CASE("tessellation adapts to curvature and colour", "[render]") {
     // A steep colour ramp on flat geometry needs no more triangles than a gentle one: colour
     // is evaluated exactly at each pixel's (s,t), and affine (s,t) is exact.
     GradientMesh ramp = rectangleMesh(0, 0, 400, 300, 4, 3, {0, 0, 0});
-    setLinearColour(ramp, {0.05, 0, 0}, {0, 0.05, 0}, {0, 0, 0});
+    setLinearColor(ramp, {0.05, 0, 0}, {0, 0.05, 0}, {0, 0, 0});
     CHECK(renderMesh(ramp, 400, 300, withScale(1)).triangles == 2u * 12);
 }
 

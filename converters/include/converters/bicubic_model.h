@@ -3,7 +3,7 @@
 // closest to what the Hermite mesh shows, one patch per patch, geometry unchanged.
 #pragma once
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "meshcore/gradient_mesh.h"
 
 namespace gm {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "converters/foreground.h"
 #include "converters/refine.h"
 #include "meshcore/gradient_mesh.h"
@@ -39,10 +39,11 @@ struct ConvertOptions {
 
 struct StageSeconds {
     double regions = 0, corners = 0, triangulate = 0, topology = 0, feature = 0, mesh = 0;
-    double T() const { return regions + corners + triangulate; }
-    double P() const { return topology + feature; }
-    double M() const { return mesh; }
-    double total() const { return T() + P() + M(); }
+    // The paper's Table 1 columns: T (outline to triangulation), P (the maps), M (the mesh).
+    double triangulationStages() const { return regions + corners + triangulate; }
+    double mapStages() const { return topology + feature; }
+    double meshStages() const { return mesh; }
+    double total() const { return triangulationStages() + mapStages() + meshStages(); }
     StageSeconds& operator+=(const StageSeconds& o) {
         regions += o.regions, corners += o.corners, triangulate += o.triangulate;
         topology += o.topology, feature += o.feature, mesh += o.mesh;

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "converters/grid.h"
 #include "converters/region.h"
 #include "converters/tri_mesh.h"

@@ -1,4 +1,4 @@
-#include "converters/visible_colours.h"
+#include "converters/visible_colors.h"
 
 #include <algorithm>
 
@@ -33,7 +33,7 @@ FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<
 }
 
 // The document's render samples: per pixel the topmost mesh covering its centre (antialias off,
-// as colours.cpp renders for its fits).
+// as colors.cpp renders for its fits).
 std::vector<PixelSample> documentSamples(const Document& doc, int threads) {
     RenderOptions ro;
     ro.wantSamples = true;

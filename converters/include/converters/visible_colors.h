@@ -1,4 +1,4 @@
-// Colours refitted to what the viewer sees. Two cases where a mesh's own fit (colours.h, over
+// Colours refitted to what the viewer sees. Two cases where a mesh's own fit (colors.h, over
 // its region's pixels) is not the best one:
 //  - Overlap. A whole image's meshes overlap (convert_segments.h: each region's mesh reaches
 //    about a pixel under its neighbours, and the base mesh lies under all of them), and a pixel
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "converters/colours.h"
+#include "converters/colors.h"
 #include "meshcore/gradient_mesh.h"
 #include "meshcore/image.h"
 

@@ -1,4 +1,4 @@
-#include "converters/colours.h"
+#include "converters/colors.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

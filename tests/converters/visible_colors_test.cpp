@@ -1,7 +1,7 @@
 // Colours refitted where each mesh shows, and for a compact file's grids, on a real whole-image
 // conversion (samples/HappyFish.jpg at a few patches a region: the meshes overlap at every
 // border, and level 6's grids cost it most).
-#include "converters/visible_colours.h"
+#include "converters/visible_colors.h"
 
 #include <catch2/catch.hpp>
 #include <string>
