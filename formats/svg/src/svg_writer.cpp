@@ -428,7 +428,9 @@ void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
 void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& id,
                    const NumberSyntax& syntax, const PieceSeams& seams = {}) {
     const int C = g.columns, R = g.rows;
-    out += "<path fill=\"url(#" + id + ")\" d=\"M";
+    // The paint in the style attribute, where mesh polyfills look for it; "none" where the
+    // viewer has no meshes, so that a fallback image beneath shows through.
+    out += "<path style=\"fill:url(#" + id + ") none\" d=\"M";
     appendPoints(out, {g.P(0, 0)}, syntax);
     auto curve = [&](Vec2 h1, Vec2 h2, Vec2 e) {
         out += syntax.compact ? "C" : " C";
