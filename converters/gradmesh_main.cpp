@@ -69,6 +69,10 @@ const std::map<std::string, std::string> kHelp = {
      "                          Inkscape draws it; Hermite meshes are refitted to it and the\n"
      "                          error printed) or exact (Hermite colours kept by subdividing\n"
      "                          patches; large). OUT.svgz writes it gzipped\n"
+     "  --svg-fallback KIND     SVG: our render beneath the meshes, for viewers that draw no\n"
+     "                          meshes (browsers' <img>, CSS, librsvg): png (every viewer),\n"
+     "                          webp (lossless, smaller; browsers only, not librsvg) or none\n"
+     "                          (default). Not updated when the mesh is edited in Inkscape\n"
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
      "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
      "                          (default 1; 0: split until within the tolerance, however small)\n"
@@ -266,6 +270,11 @@ int cmdConvert(const Args& a, bool renderOnly) {
             throw UsageError("--svg-colors expects bicubic or exact, got '" + it->second + "'");
         wo.svgColors = it->second;
     }
+    if (auto it = a.values.find("--svg-fallback"); it != a.values.end()) {
+        if (!gm::isSvgFallbackKind(it->second))
+            throw UsageError("--svg-fallback expects png, webp or none, got '" + it->second + "'");
+        wo.svgFallback = it->second;
+    }
     if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
         wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
     if (auto it = a.values.find("--min-piece"); it != a.values.end())
@@ -324,6 +333,8 @@ int cmdConvert(const Args& a, bool renderOnly) {
     const gm::Document doc = readDocument(in, ro);
     if (writer->name() == "raster")
         gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
+    if (writer->name() == "svg" && wo.svgFallback != "none")  // the fallback is a render
+        gm::requireRenderWithinLimits(doc.width, doc.height, 1.0, limits, out);
     writer->write(gm::documentForWriter(doc, *writer, wo, out), out, wo);
     return 0;
 }
@@ -501,7 +512,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (command == "convert" || command == "render") {
-            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
+            std::set<std::string> valued = {"--output", "--svg-colors", "--svg-fallback", "--color-tolerance", "--min-piece",
                                             "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
             valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
             if (command == "convert") valued.insert("--compact-level");
