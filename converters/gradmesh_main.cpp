@@ -69,13 +69,13 @@ const std::map<std::string, std::string> kHelp = {
      "                          Inkscape draws it; Hermite meshes are refitted to it and the\n"
      "                          error printed) or exact (Hermite colours kept by subdividing\n"
      "                          patches; large). OUT.svgz writes it gzipped\n"
+     "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
+     "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
+     "                          (default 1; 0: split until within the tolerance, however small)\n"
      "  --svg-fallback KIND     SVG: our render beneath the meshes, for viewers that draw no\n"
      "                          meshes (browsers' <img>, CSS, librsvg): png (every viewer),\n"
      "                          webp (lossless, smaller; browsers only, not librsvg) or none\n"
      "                          (default). Not updated when the mesh is edited in Inkscape\n"
-     "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
-     "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
-     "                          (default 1; 0: split until within the tolerance, however small)\n"
      "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
      "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
      "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
@@ -270,15 +270,15 @@ int cmdConvert(const Args& a, bool renderOnly) {
             throw UsageError("--svg-colors expects bicubic or exact, got '" + it->second + "'");
         wo.svgColors = it->second;
     }
+    if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
+        wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
+    if (auto it = a.values.find("--min-piece"); it != a.values.end())
+        wo.minPiece = parseNumber("--min-piece", it->second, 0, 64);
     if (auto it = a.values.find("--svg-fallback"); it != a.values.end()) {
         if (!gm::isSvgFallbackKind(it->second))
             throw UsageError("--svg-fallback expects png, webp or none, got '" + it->second + "'");
         wo.svgFallback = it->second;
     }
-    if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
-        wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
-    if (auto it = a.values.find("--min-piece"); it != a.values.end())
-        wo.minPiece = parseNumber("--min-piece", it->second, 0, 64);
     if (auto it = a.values.find("--scale"); it != a.values.end())
         wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
     if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
@@ -512,9 +512,10 @@ int main(int argc, char** argv) {
     }
     try {
         if (command == "convert" || command == "render") {
-            std::set<std::string> valued = {"--output", "--svg-colors", "--svg-fallback", "--color-tolerance", "--min-piece",
+            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
                                             "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
             valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
+            valued.insert("--svg-fallback");
             if (command == "convert") valued.insert("--compact-level");
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
             std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};

@@ -522,11 +522,10 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     std::string out;
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     out += "<!-- gradmesh: SVG 2 meshgradient; rendered by Inkscape, not by browsers -->\n";
-    out += "<svg xmlns=\"http://www.w3.org/2000/svg\"";
-    if (fallback) out += svgFallbackNamespaces();
-    out += " width=\"" + std::to_string(doc.width) + "\" height=\"" + std::to_string(doc.height) +
-           "\" viewBox=\"0 0 " + std::to_string(doc.width) + " " + std::to_string(doc.height) +
-           "\">\n<defs>\n";
+    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
+           "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
+           std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
+    if (fallback) out.insert(out.rfind("<svg ") + 4, svgFallbackNamespaces());  // on the root
     std::string paths;
     int n = 0;
     for (size_t k = 0; k < pieces.size(); ++k) {

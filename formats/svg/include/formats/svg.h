@@ -18,14 +18,15 @@
 //    column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j the largest
 //    per-patch count along s / t over that column / row. Refused over
 //    WriteOptions::maxSvgPatches SVG patches.
-// Mesh shapes are painted with style="fill:url(#mN) none": viewers without meshes paint
-// nothing there (the fallback paint), and mesh polyfills (Inkscape's, ours) find the paint in
-// the style attribute. With WriteOptions::svgFallback "png" or "webp" our render of the
-// document lies beneath the shapes as an image in a locked Inkscape layer (svgz too).
 // A path ending in ".svgz" is written gzip-compressed; gzip input is read either way.
 //
 // Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and
 // how the Ferguson data is recovered from Bézier handles).
+//
+// Mesh shapes are painted with style="fill:url(#mN) none": viewers without meshes paint
+// nothing there (the fallback paint), and mesh polyfills (Inkscape's, ours) find the paint in
+// the style attribute. With WriteOptions::svgFallback "png" or "webp" our render of the
+// document lies beneath the shapes as an image in a locked Inkscape layer (svgz too).
 #pragma once
 
 #include <cstdint>
