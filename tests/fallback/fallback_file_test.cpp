@@ -116,6 +116,13 @@ TEST_CASE("--svg-fallback from an image, from an SVG, and its bad values", "[fal
     CHECK(bad.code == 2);
     CHECK_THAT(bad.err, Contains("--svg-fallback expects png, webp or none, got 'gif'"));
     CHECK(!fs::exists(d / "c.svg"));
+    // The image counts against --max-output-bytes (pic1: 181 KB without, 212 KB with a PNG).
+    const Run big = gmtest::runGradmesh("convert " + q(d / "a.svg") + " --svg-fallback png" +
+                                        " --max-output-bytes 190000 -o " + q(d / "d.svg"), d);
+    CHECK(big.code == 1);
+    CHECK_THAT(big.err, Contains("d.svg"));
+    CHECK_THAT(big.err, Contains("--max-output-bytes"));
+    CHECK(!fs::exists(d / "d.svg"));
     const Run help = gmtest::runGradmesh("convert --help", d);
     CHECK_THAT(help.out, Contains("--svg-fallback KIND"));
 

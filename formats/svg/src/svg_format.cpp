@@ -108,6 +108,8 @@ public:
         try {
             const std::unique_ptr<SvgFallbackImage> image = fallbackImage(doc, options);
             const std::string svg = encodeSvg(doc, options, nullptr, image.get());
+            // leastBytes counts no image: the limit is checked again with it.
+            if (image) requireOutputWithinLimit(svg.size(), options, path);
             return endsWith(path, ".svgz") ? gzipBytes(svg) : svg;
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
