@@ -525,7 +525,10 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
            "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
-    if (fallback) out.insert(out.rfind("<svg ") + 4, svgFallbackNamespaces());  // on the root
+    if (fallback) {  // the layer's namespaces, after the SVG one on the root element
+        const std::string svgNamespace = "xmlns=\"http://www.w3.org/2000/svg\"";
+        out.insert(out.rfind(svgNamespace) + svgNamespace.size(), svgFallbackNamespaces());
+    }
     std::string paths;
     int n = 0;
     for (size_t k = 0; k < pieces.size(); ++k) {
