@@ -37,8 +37,10 @@ TEST_CASE("the fallback is one image in a locked Inkscape layer beneath the mesh
         checkSuccess(gmtest::runGradmesh("convert " + q(sampleGmb(pic1)) + " --svg-fallback " +
                                              kind + " -o " + q(svg), d));
         const std::string text = gmtest::slurp(svg);
-        CHECK_THAT(text, Contains("xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\""));
-        CHECK_THAT(text, Contains("xmlns:sodipodi=\"http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd\""));
+        CHECK_THAT(text,
+                   Contains("xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\""));
+        CHECK_THAT(text, Contains("xmlns:sodipodi=\"http://sodipodi.sourceforge.net/DTD/"
+                                  "sodipodi-0.dtd\""));
         CHECK_THAT(text, Contains("xmlns:xlink=\"http://www.w3.org/1999/xlink\""));
         CHECK(count(text, "<image ") == 1);
         CHECK(count(text, "inkscape:groupmode=\"layer\"") == 1);

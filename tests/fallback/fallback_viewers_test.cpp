@@ -172,7 +172,8 @@ TEST_CASE("Inkscape draws the meshes over the fallback layer, not the image",
 
     // The paint in style draws what the fill attribute drew, pixel for pixel.
     const fs::path styled = d / "styled.svg", attribute = d / "attribute.svg";
-    checkSuccess(gmtest::runGradmesh("convert " + q(sampleGmb(kSamples[1])) + " -o " + q(styled), d));
+    checkSuccess(
+        gmtest::runGradmesh("convert " + q(sampleGmb(kSamples[1])) + " -o " + q(styled), d));
     const std::string text = gmtest::slurp(styled);
     const std::string old = std::regex_replace(
         text, std::regex("style=\"fill:url\\(#(m[0-9]+)\\) none\""), "fill=\"url(#$1)\"");

@@ -12,8 +12,8 @@ std::string base64Encode(const std::string& bytes) {
     size_t k = 0;
     // Whole groups of three bytes become four characters.
     for (; k + 3 <= bytes.size(); k += 3) {
-        const uint32_t v = uint32_t(uint8_t(bytes[k])) << 16 | uint32_t(uint8_t(bytes[k + 1])) << 8 |
-                           uint8_t(bytes[k + 2]);
+        const uint32_t v = uint32_t(uint8_t(bytes[k])) << 16 |
+                           uint32_t(uint8_t(bytes[k + 1])) << 8 | uint8_t(bytes[k + 2]);
         for (int shift : {18, 12, 6, 0}) out += alphabet[(v >> shift) & 63];
     }
     // One or two bytes left: two or three characters, padded with '='.

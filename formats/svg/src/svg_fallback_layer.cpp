@@ -25,15 +25,16 @@ const char* svgFallbackNamespaces() {
            " xmlns:sodipodi=\"http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd\"";
 }
 
-void appendSvgFallbackLayer(std::string& out, const SvgFallbackImage& image, int width, int height) {
+void appendSvgFallbackLayer(std::string& out, const SvgFallbackImage& image, int width,
+                            int height) {
     // The label tells an Inkscape user what the locked layer is and that editing the meshes
     // does not update it. xlink:href, not SVG 2's href: every viewer reads it.
-    out += "<g id=\"gradmesh-fallback\" inkscape:groupmode=\"layer\""
-           " inkscape:label=\"Raster fallback (gradmesh render, not updated by edits)\""
-           " sodipodi:insensitive=\"true\">\n<image width=\"" +
-           std::to_string(width) + "\" height=\"" + std::to_string(height) +
-           "\" preserveAspectRatio=\"none\" xlink:href=\"data:" + mediaType(image.kind) +
-           ";base64,";
+    out +=
+        "<g id=\"gradmesh-fallback\" inkscape:groupmode=\"layer\""
+        " inkscape:label=\"Raster fallback (gradmesh render, not updated by edits)\""
+        " sodipodi:insensitive=\"true\">\n<image width=\"" +
+        std::to_string(width) + "\" height=\"" + std::to_string(height) +
+        "\" preserveAspectRatio=\"none\" xlink:href=\"data:" + mediaType(image.kind) + ";base64,";
     out += base64Encode(image.bytes);
     out += "\"/>\n</g>\n";
 }

@@ -120,12 +120,12 @@ public:
 private:
     SvgFallbackEncoder fallback_;
 
-    // The image WriteOptions::svgFallback asks for, rendered from `doc`; null for "none".
+    // The image WriteOptions::svgFallback asks for, rendered from `doc`; null for "none" (and
+    // for an unknown kind, which encodeSvg refuses).
     std::unique_ptr<SvgFallbackImage> fallbackImage(const Document& doc,
                                                     const WriteOptions& options) const {
-        if (!isSvgFallbackKind(options.svgFallback))
-            throw Error("unknown SVG fallback '" + options.svgFallback + "' (expected png, webp or none)");
-        if (options.svgFallback == "none") return nullptr;
+        if (options.svgFallback == "none" || !isSvgFallbackKind(options.svgFallback))
+            return nullptr;
         if (!fallback_) throw Error("this build writes no SVG fallback images");
         return std::make_unique<SvgFallbackImage>(
             SvgFallbackImage{options.svgFallback, fallback_(doc, options.svgFallback)});

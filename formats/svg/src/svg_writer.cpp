@@ -479,11 +479,13 @@ std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
 // The fallback image must be given exactly when the options ask for one, of their kind.
 void requireFallbackImage(const WriteOptions& options, const SvgFallbackImage* fallback) {
     if (!isSvgFallbackKind(options.svgFallback))
-        throw Error("unknown SVG fallback '" + options.svgFallback + "' (expected png, webp or none)");
+        throw Error("unknown SVG fallback '" + options.svgFallback +
+                    "' (expected png, webp or none)");
     const bool wanted = options.svgFallback != "none";
     if (wanted && !fallback)
         throw Error("the SVG fallback image (" + options.svgFallback + ") was not made");
-    if (!wanted && fallback) throw Error("an SVG fallback image was given with the fallback 'none'");
+    if (!wanted && fallback)
+        throw Error("an SVG fallback image was given with the fallback 'none'");
     if (fallback && fallback->kind != options.svgFallback)
         throw Error("the SVG fallback image is " + fallback->kind + ", not " + options.svgFallback);
 }
