@@ -74,6 +74,10 @@ const std::map<std::string, std::string> kHelp = {
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
      "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
      "                          (default 1; 0: split until within the tolerance, however small)\n"
+     "  --svg-fallback KIND     SVG: our render beneath the meshes, for viewers that draw no\n"
+     "                          meshes (browsers' <img>, CSS, librsvg): png (every viewer),\n"
+     "                          webp (lossless, smaller; browsers only, not librsvg) or none\n"
+     "                          (default). Not updated when the mesh is edited in Inkscape\n"
      "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
      "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
      "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
@@ -273,6 +277,11 @@ int cmdConvert(const Args& a, bool renderOnly) {
         wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
     if (auto it = a.values.find("--min-piece"); it != a.values.end())
         wo.minPiece = parseNumber("--min-piece", it->second, 0, 64);
+    if (auto it = a.values.find("--svg-fallback"); it != a.values.end()) {
+        if (!gm::isSvgFallbackKind(it->second))
+            throw UsageError("--svg-fallback expects png, webp or none, got '" + it->second + "'");
+        wo.svgFallback = it->second;
+    }
     if (auto it = a.values.find("--scale"); it != a.values.end())
         wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
     if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
@@ -327,6 +336,8 @@ int cmdConvert(const Args& a, bool renderOnly) {
     const gm::Document doc = readDocument(in, ro);
     if (writer->name() == "raster")
         gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
+    if (writer->name() == "svg" && wo.svgFallback != "none")  // the fallback is a render
+        gm::requireRenderWithinLimits(doc.width, doc.height, 1.0, limits, out);
     writer->write(gm::documentForWriter(doc, *writer, wo, out), out, wo);
     return 0;
 }
@@ -507,6 +518,7 @@ int main(int argc, char** argv) {
             std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
                                             "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
             valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
+            valued.insert("--svg-fallback");
             if (command == "convert") valued.insert("--compact-level");
             if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
             std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};

@@ -337,6 +337,8 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     const ImageProbe probe = probeInput(in, segment, maxPixels, limits);
     if (writer.name() == "raster")
         requireRenderWithinLimits(probe.width, probe.height, writeOptions.rasterScale, limits, out);
+    if (writer.name() == "svg" && writeOptions.svgFallback != "none")  // the fallback is a render
+        requireRenderWithinLimits(probe.width, probe.height, 1.0, limits, out);
     const RgbaImage image = readQuietly(in, maxPixels);
     RgbaImage maskImage;
     if (!maskPath.empty()) maskImage = readQuietly(maskPath, maxPixels);

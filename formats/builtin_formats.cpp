@@ -14,7 +14,7 @@ const FormatRegistry& FormatRegistry::builtin() {
         FormatRegistry r;
         r.add(makeGmbFormat());
         r.add(makeRasterFormat());
-        r.add(makeSvgFormat());
+        r.add(makeSvgFormat(encodeFallbackImage));  // formats/raster renders SVG fallbacks
         r.add(makeEpsFormat());
         r.add(makePdfFormat());
         return r;

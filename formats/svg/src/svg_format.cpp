@@ -1,6 +1,8 @@
 #include <zlib.h>
 
 #include <cctype>
+#include <memory>
+#include <utility>
 
 #include "formats/input_file.h"
 #include "formats/svg.h"
@@ -66,6 +68,8 @@ std::string gunzipBytes(const std::string& bytes, uint64_t limit, const std::str
 
 class SvgFormat : public MeshFormat {
 public:
+    explicit SvgFormat(SvgFallbackEncoder fallback) : fallback_(std::move(fallback)) {}
+
     std::string name() const override { return "svg"; }
     std::vector<std::string> extensions() const override { return {".svg", ".svgz"}; }
     bool canRead() const override { return true; }
@@ -102,17 +106,36 @@ public:
         if (const std::string e = coordinateProblem(doc); !e.empty())
             throw Error("cannot write: " + e, path);
         try {
-            const std::string svg = encodeSvg(doc, options);
+            const std::unique_ptr<SvgFallbackImage> image = fallbackImage(doc, options);
+            const std::string svg = encodeSvg(doc, options, nullptr, image.get());
+            // leastBytes counts no image: the limit is checked again with it.
+            if (image) requireOutputWithinLimit(svg.size(), options, path);
             return endsWith(path, ".svgz") ? gzipBytes(svg) : svg;
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
             throw Error(e.reason(), path, e.where());
         }
     }
+
+private:
+    SvgFallbackEncoder fallback_;
+
+    // The image WriteOptions::svgFallback asks for, rendered from `doc`; null for "none" (and
+    // for an unknown kind, which encodeSvg refuses).
+    std::unique_ptr<SvgFallbackImage> fallbackImage(const Document& doc,
+                                                    const WriteOptions& options) const {
+        if (options.svgFallback == "none" || !isSvgFallbackKind(options.svgFallback))
+            return nullptr;
+        if (!fallback_) throw Error("this build writes no SVG fallback images");
+        return std::make_unique<SvgFallbackImage>(
+            SvgFallbackImage{options.svgFallback, fallback_(doc, options.svgFallback)});
+    }
 };
 
 }  // namespace
 
-std::unique_ptr<MeshFormat> makeSvgFormat() { return std::make_unique<SvgFormat>(); }
+std::unique_ptr<MeshFormat> makeSvgFormat(SvgFallbackEncoder fallback) {
+    return std::make_unique<SvgFormat>(std::move(fallback));
+}
 
 }  // namespace gm

@@ -12,6 +12,7 @@
 #include "meshcore/error.h"
 #include "meshcore/split_legacy.h"
 #include "meshcore/validate.h"
+#include "svg_fallback_layer.h"
 #include "svg_number.h"
 #include "svg_patch_grid.h"
 
@@ -428,7 +429,9 @@ void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
 void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& id,
                    const NumberSyntax& syntax, const PieceSeams& seams = {}) {
     const int C = g.columns, R = g.rows;
-    out += "<path fill=\"url(#" + id + ")\" d=\"M";
+    // The paint in the style attribute, where mesh polyfills look for it; "none" where the
+    // viewer has no meshes, so that a fallback image beneath shows through.
+    out += "<path style=\"fill:url(#" + id + ") none\" d=\"M";
     appendPoints(out, {g.P(0, 0)}, syntax);
     auto curve = [&](Vec2 h1, Vec2 h2, Vec2 e) {
         out += syntax.compact ? "C" : " C";
@@ -473,15 +476,31 @@ std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
     return pieces;
 }
 
+// The fallback image must be given exactly when the options ask for one, of their kind.
+void requireFallbackImage(const WriteOptions& options, const SvgFallbackImage* fallback) {
+    if (!isSvgFallbackKind(options.svgFallback))
+        throw Error("unknown SVG fallback '" + options.svgFallback +
+                    "' (expected png, webp or none)");
+    const bool wanted = options.svgFallback != "none";
+    if (wanted && !fallback)
+        throw Error("the SVG fallback image (" + options.svgFallback + ") was not made");
+    if (!wanted && fallback)
+        throw Error("an SVG fallback image was given with the fallback 'none'");
+    if (fallback && fallback->kind != options.svgFallback)
+        throw Error("the SVG fallback image is " + fallback->kind + ", not " + options.svgFallback);
+}
+
 }  // namespace
 
-std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats) {
+std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats,
+                      const SvgFallbackImage* fallback) {
     const bool exact = options.svgColors == "exact";
     if (!exact && options.svgColors != "bicubic" && options.svgColors != "editable")
         throw Error("unknown SVG colour mode '" + options.svgColors +
                     "' (expected 'bicubic' or 'exact')");
     if (!(options.colorTolerance > 0) || !std::isfinite(options.colorTolerance))
         throw Error("the colour tolerance must be a positive number");
+    requireFallbackImage(options, fallback);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("cannot write an invalid document: " + problem);
 
@@ -508,6 +527,10 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
            "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
+    if (fallback) {  // the layer's namespaces, after the SVG one on the root element
+        const std::string svgNamespace = "xmlns=\"http://www.w3.org/2000/svg\"";
+        out.insert(out.rfind(svgNamespace) + svgNamespace.size(), svgFallbackNamespaces());
+    }
     std::string paths;
     int n = 0;
     for (size_t k = 0; k < pieces.size(); ++k) {
@@ -529,6 +552,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
         appendOutline(paths, base, id, syntax, p.seams);
     }
     out += "</defs>\n";
+    if (fallback) appendSvgFallbackLayer(out, *fallback, doc.width, doc.height);  // beneath the shapes
     out += paths;
     out += "</svg>\n";
     if (stats) *stats = local;

@@ -36,6 +36,15 @@ std::string encodeImage(const RgbaImage& image, const std::string& path);
 // encodeImage, written atomically (atomic_file.h): no partial file is left behind.
 void writeImage(const RgbaImage& image, const std::string& path);
 
+// Lossless WebP of `image` (8-bit straight RGBA), through libwebp: OpenImageIO's WebP writer
+// turns pixels into subsampled YUV first, even when asked for lossless.
+std::string encodeWebpLossless(const RgbaImage& image);
+
+// The image beneath an SVG's meshes (SvgFallbackEncoder, formats/svg.h): `doc` rendered as
+// `gradmesh render` does, 1 pixel per canvas pixel, transparent where nothing is painted,
+// encoded as "png" or "webp" (lossless).
+std::string encodeFallbackImage(const Document& doc, const std::string& kind);
+
 // Composites straight-alpha `image` over an RGBA background (alpha 0 leaves it unchanged).
 void compositeOver(RgbaImage& image, const std::array<float, 4>& background);
 

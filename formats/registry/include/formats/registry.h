@@ -49,6 +49,9 @@ struct WriteOptions {
     double colorTolerance = 1.0 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
     double minPiece = 1.0;  // exact colours: no sub-patch shorter than this along s or t,
                             // canvas pixels (exactColorPieces); 0: no limit
+    // SVG: our render of the document embedded beneath the meshes, for viewers that draw no
+    // meshes (browsers' <img>, librsvg): "png", "webp" (lossless) or "none".
+    std::string svgFallback = "none";
     bool textShading = false;         // EPS/PDF: text DataSource instead of the binary stream
     double rasterScale = 1.0;         // raster outputs: pixels per canvas pixel
     std::array<float, 4> background = {0, 0, 0, 0};  // raster outputs: RGBA 0–1, alpha 0 = none

@@ -22,9 +22,15 @@
 //
 // Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and
 // how the Ferguson data is recovered from Bézier handles).
+//
+// Mesh shapes are painted with style="fill:url(#mN) none": viewers without meshes paint
+// nothing there (the fallback paint), and mesh polyfills (Inkscape's, ours) find the paint in
+// the style attribute. With WriteOptions::svgFallback "png" or "webp" our render of the
+// document lies beneath the shapes as an image in a locked Inkscape layer (svgz too).
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -32,7 +38,21 @@
 
 namespace gm {
 
-std::unique_ptr<MeshFormat> makeSvgFormat();
+// Renders `doc` and encodes it as `kind` ("png" or "webp"), 1 image pixel per canvas pixel.
+// The SVG library links no image codec: its caller supplies this (builtin_formats.cpp).
+using SvgFallbackEncoder = std::function<std::string(const Document& doc, const std::string& kind)>;
+
+// Without an encoder, writing with WriteOptions::svgFallback other than "none" fails.
+std::unique_ptr<MeshFormat> makeSvgFormat(SvgFallbackEncoder fallback = {});
+
+// WriteOptions::svgFallback values: "png", "webp" or "none".
+bool isSvgFallbackKind(const std::string& kind);
+
+// An encoded image of the whole canvas, drawn beneath the meshes.
+struct SvgFallbackImage {
+    std::string kind;   // "png" or "webp"
+    std::string bytes;  // the image file's bytes
+};
 
 // In-memory encode. Throws gm::Error for an unknown colour mode or an invalid document.
 std::string encodeSvg(const Document& doc, const WriteOptions& options);
@@ -89,6 +109,8 @@ struct SvgEncodeStats {
     int64_t meshGradients = 0;
     int maxSubdivision = 1;  // largest ku or kv used in exact mode
 };
-std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats);
+// `fallback` is the image of WriteOptions::svgFallback, required unless that is "none".
+std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncodeStats* stats,
+                      const SvgFallbackImage* fallback = nullptr);
 
 }  // namespace gm
