@@ -13,6 +13,7 @@
 #include "meshcore/split_legacy.h"
 #include "meshcore/validate.h"
 #include "svg_number.h"
+#include "svg_script.h"
 #include "svg_patch_grid.h"
 
 namespace gm {
@@ -480,6 +481,8 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     if (!exact && options.svgColors != "bicubic" && options.svgColors != "editable")
         throw Error("unknown SVG colour mode '" + options.svgColors +
                     "' (expected 'bicubic' or 'exact')");
+    if (options.svgScript != "embed" && options.svgScript != "none")
+        throw Error("unknown SVG script mode '" + options.svgScript + "' (expected 'embed' or 'none')");
     if (!(options.colorTolerance > 0) || !std::isfinite(options.colorTolerance))
         throw Error("the colour tolerance must be a positive number");
     const std::string problem = validateDocument(doc);
@@ -504,7 +507,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     SvgEncodeStats local;
     std::string out;
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    out += "<!-- gradmesh: SVG 2 meshgradient; rendered by Inkscape, not by browsers -->\n";
+    out += "<!-- gradmesh: SVG 2 meshgradient; drawn by Inkscape, and in browsers by the script at the end -->\n";
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
            "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
@@ -530,6 +533,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     }
     out += "</defs>\n";
     out += paths;
+    if (options.svgScript == "embed" && !pieces.empty()) appendMeshScript(out);
     out += "</svg>\n";
     if (stats) *stats = local;
     return out;
