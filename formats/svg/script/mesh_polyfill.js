@@ -267,32 +267,29 @@
     const xy = new Float32Array(2 * vertices), rgb = new Float32Array(3 * vertices);
     const indices = new Uint32Array(6 * cells);
     for (const {q, corners, ns, nt} of patches) {
-      const Bs = [], Hs = [];
+      // Bilinear colour is the Hermite form with the basis (1 − u, u) and no slopes.
+      const basis = mesh.bicubic ? hermite : (u) => [1 - u, u, 0, 0], Bs = [], Hs = [];
       for (let a = 0; a <= ns; a++) {
         Bs[a] = bernstein(a / ns);
-        Hs[a] = hermite(a / ns);
+        Hs[a] = basis(a / ns);
       }
+      const cell = [0, 1, ns + 2, 0, ns + 2, ns + 1];  // a cell's two triangles from its first vertex
       for (let b = 0; b <= nt; b++) {
-        const t = b / nt, Bt = bernstein(t), Ht = hermite(t);
+        // The patch at this t: control points along s, and for the corner columns i = 0, 1 the
+        // colour and its slope along s.
+        const Bt = bernstein(b / nt), Ht = basis(b / nt);
+        const points = q.map((column) => [0, 1].map((k) => Bt.reduce((sum, w, j) => sum + w * column[j][k], 0)));
+        const along = (i, f) => [0, 1, 2].map((ch) => Ht[0] * f(corners[i][0], 0)[ch] + Ht[1] * f(corners[i][1], 1)[ch] +
+                                                      Ht[2] * f(corners[i][0], 2)[ch] + Ht[3] * f(corners[i][1], 3)[ch]);
+        const colour = [0, 1].map((i) => along(i, (c, j) => j < 2 ? c.col : c.T));
+        const slope = [0, 1].map((i) => along(i, (c, j) => j < 2 ? c.S : [0, 0, 0]));
         for (let a = 0; a <= ns; a++, v++) {
-          const s = a / ns, B = Bs[a], H = Hs[a];
-          xy[2 * v] = xy[2 * v + 1] = 0;
-          for (let i = 0; i < 4; i++)
-            for (let j = 0; j < 4; j++) {
-              xy[2 * v] += B[i] * Bt[j] * q[i][j][0];
-              xy[2 * v + 1] += B[i] * Bt[j] * q[i][j][1];
-            }
-          for (let ch = 0; ch < 3; ch++) {
-            let value = 0;
-            for (let i = 0; i < 2; i++)
-              for (let j = 0; j < 2; j++) {
-                const x = corners[i][j];
-                value += mesh.bicubic ? H[i] * Ht[j] * x.col[ch] + H[2 + i] * Ht[j] * x.S[ch] + H[i] * Ht[2 + j] * x.T[ch] :
-                  (i ? s : 1 - s) * (j ? t : 1 - t) * x.col[ch];
-              }
-            rgb[3 * v + ch] = value;
-          }
-          if (a < ns && b < nt) indices.set([v, v + 1, v + ns + 2, v, v + ns + 2, v + ns + 1], (n += 6) - 6);
+          const B = Bs[a], H = Hs[a];
+          for (let k = 0; k < 2; k++)
+            xy[2 * v + k] = B[0] * points[0][k] + B[1] * points[1][k] + B[2] * points[2][k] + B[3] * points[3][k];
+          for (let ch = 0; ch < 3; ch++)
+            rgb[3 * v + ch] = H[0] * colour[0][ch] + H[1] * colour[1][ch] + H[2] * slope[0][ch] + H[3] * slope[1][ch];
+          for (let k = 0; a < ns && b < nt && k < 6; k++) indices[n++] = v + cell[k];
         }
       }
     }
@@ -370,7 +367,7 @@
           if (w0 < 0 || w1 < 0 || w2 < 0) continue;
           const o = 4 * (y * w + x);
           for (let ch = 0; ch < 3; ch++)
-            pixels[o + ch] = 255 * (w0 * rgb[3 * i0 + ch] + w1 * rgb[3 * i1 + ch] + w2 * rgb[3 * i2 + ch]) + 0.5;
+            pixels[o + ch] = 255 * (w0 * rgb[3 * i0 + ch] + w1 * rgb[3 * i1 + ch] + w2 * rgb[3 * i2 + ch]);  // rounded by the array
           pixels[o + 3] = 255;
         }
     }
