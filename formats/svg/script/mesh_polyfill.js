@@ -25,10 +25,11 @@
   if (window.SVGMeshGradientElement) return;  // native meshes
   if (window.gradmeshMeshes) return window.gradmeshMeshes.scan();
 
-  const {abs, ceil, floor, hypot, max, min, sqrt} = Math;
+  const {abs, ceil, floor, max, min, sqrt} = Math;
+  const hypot = (x, y) => sqrt(x * x + y * y);  // Math.hypot is several times slower
   const SVG_NS = 'http://www.w3.org/2000/svg', HTML_NS = 'http://www.w3.org/1999/xhtml';
-  // Largest canvas side and area drawn (device pixels; every WebGL takes 4096); larger boxes
-  // are drawn coarser.
+  // Largest canvas side and area drawn (device pixels; a side WebGL implementations take in
+  // practice); larger boxes are drawn coarser.
   const MAX_SIDE = 4096, MAX_AREA = 1 << 24;
   // Subdivision: position error (device px) and colour error (0–1) of the linear triangles,
   // the smallest cell (device px) the colour alone asks for, and the most cells per side.
@@ -181,7 +182,7 @@
     };
     const rows = [...Array(R + 1).keys()].map((r) => line(W, (n) => r * W + n));
     const cols = [...Array(W).keys()].map((c) => line(R + 1, (n) => n * W + c));
-    const scaled = (f, v) => v.map((x) => f * x);
+    const scaled = (f, v) => [f * v[0], f * v[1], f * v[2]];
     mesh.colours = [];
     for (let r = 0; r < R; r++)
       for (let c = 0; c < C; c++) {
@@ -210,11 +211,12 @@
   }
 
   // The interior point of a Coons patch written as a tensor patch, next to corner
-  // q[mirrorS ? 3 : 0][mirrorT ? 3 : 0] (PDF reference, type 6 shading as type 7).
+  // q[mirrorS ? 3 : 0][mirrorT ? 3 : 0] (PDF reference, type 6 shading as type 7): weights
+  // (ninths) of the boundary points [a, b].
+  const COONS = [[0, 0, -4], [1, 0, 6], [0, 1, 6], [3, 0, -2], [0, 3, -2], [1, 3, 3], [3, 1, 3], [3, 3, -1]];
   function coonsInterior(q, mirrorS, mirrorT) {
     const p = [0, 0];
-    for (const [a, b, w] of [[0, 0, -4], [1, 0, 6], [0, 1, 6], [3, 0, -2], [0, 3, -2], [1, 3, 3],
-                             [3, 1, 3], [3, 3, -1]]) {
+    for (const [a, b, w] of COONS) {
       const v = q[mirrorS ? 3 - a : a][mirrorT ? 3 - b : b];
       p[0] += w * v[0] / 9;
       p[1] += w * v[1] / 9;
@@ -386,7 +388,7 @@
           if (!drawn[k])
             rgba[k] = (l && drawn[k - 1]) || (r && drawn[k + 1]) || (u && drawn[k - w]) || (d && drawn[k + w]) ||
               (l && u && drawn[k - w - 1]) || (r && u && drawn[k - w + 1]) || (l && d && drawn[k + w - 1]) ||
-              (r && d && drawn[k + w + 1]) || 0;
+              (r && d && drawn[k + w + 1]);  // false stores 0
         }
     }
   }
@@ -441,9 +443,9 @@
     if (!record.pattern) {
       record.pattern = document.createElementNS(SVG_NS, 'pattern');
       record.image = record.pattern.appendChild(document.createElementNS(SVG_NS, 'image'));
-      record.pattern.id = 'gradmesh-mesh-' + ++patternCount;
+      record.pattern.id = 'gradmesh-' + ++patternCount;
       record.gradient.before(record.pattern);
-      record.shape.style.setProperty('fill', `url(#${record.pattern.id})`);
+      record.shape.style.fill = `url(#${record.pattern.id})`;
     }
     const d = m[0] * m[3] - m[1] * m[2], bbox = record.shape.getBBox();
     const inverse = [m[3], -m[1], -m[2], m[0], m[2] * m[5] - m[3] * m[4], m[1] * m[4] - m[0] * m[5]].map((v) => v / d);
@@ -471,7 +473,7 @@
       found++;
     }
     if (options.timing && found)
-      console.log(`gradmesh ${found} meshes ${performance.now() - started} ms ${webgl() ? 'webgl' : '2d'}`);
+      console.log(`gradmesh ${found} meshes ${performance.now() - started} ms ${gl ? 'webgl' : '2d'}`);
   }
 
   // Draws again every mesh whose transform to the screen has changed (zoom, resize).
