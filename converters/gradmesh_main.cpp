@@ -71,6 +71,8 @@ const std::map<std::string, std::string> kHelp = {
      "                          Inkscape draws it; Hermite meshes are refitted to it and the\n"
      "                          error printed) or exact (Hermite colours kept by subdividing\n"
      "                          patches; large). OUT.svgz writes it gzipped\n"
+     "  --svg-script MODE       SVG: embed (default: a script that draws the meshes in web\n"
+     "                          browsers, which have no mesh support; docs/browsers.md) or none\n"
      "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
      "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
      "                          (default 1; 0: split until within the tolerance, however small)\n"
@@ -272,6 +274,11 @@ int cmdConvert(const Args& a, bool renderOnly) {
         if (it->second != "exact" && it->second != "bicubic" && it->second != "editable")
             throw UsageError("--svg-colors expects bicubic or exact, got '" + it->second + "'");
         wo.svgColors = it->second;
+    }
+    if (auto it = a.values.find("--svg-script"); it != a.values.end()) {
+        if (it->second != "embed" && it->second != "none")
+            throw UsageError("--svg-script expects embed or none, got '" + it->second + "'");
+        wo.svgScript = it->second;
     }
     if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
         wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
@@ -515,7 +522,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (command == "convert" || command == "render") {
-            std::set<std::string> valued = {"--output", "--svg-colors", "--color-tolerance", "--min-piece",
+            std::set<std::string> valued = {"--output", "--svg-colors", "--svg-script", "--color-tolerance", "--min-piece",
                                             "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
             valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
             valued.insert("--svg-fallback");

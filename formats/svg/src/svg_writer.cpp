@@ -14,6 +14,7 @@
 #include "meshcore/validate.h"
 #include "svg_fallback_layer.h"
 #include "svg_number.h"
+#include "svg_script.h"
 #include "svg_patch_grid.h"
 
 namespace gm {
@@ -498,6 +499,8 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     if (!exact && options.svgColors != "bicubic" && options.svgColors != "editable")
         throw Error("unknown SVG colour mode '" + options.svgColors +
                     "' (expected 'bicubic' or 'exact')");
+    if (options.svgScript != "embed" && options.svgScript != "none")
+        throw Error("unknown SVG script mode '" + options.svgScript + "' (expected 'embed' or 'none')");
     if (!(options.colorTolerance > 0) || !std::isfinite(options.colorTolerance))
         throw Error("the colour tolerance must be a positive number");
     requireFallbackImage(options, fallback);
@@ -523,7 +526,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     SvgEncodeStats local;
     std::string out;
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    out += "<!-- gradmesh: SVG 2 meshgradient; rendered by Inkscape, not by browsers -->\n";
+    out += "<!-- gradmesh: SVG 2 meshgradient; drawn by Inkscape, and in browsers by the script at the end -->\n";
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
            "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
            std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
@@ -554,6 +557,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     out += "</defs>\n";
     if (fallback) appendSvgFallbackLayer(out, *fallback, doc.width, doc.height);  // beneath the shapes
     out += paths;
+    if (options.svgScript == "embed" && !pieces.empty()) appendMeshScript(out);
     out += "</svg>\n";
     if (stats) *stats = local;
     return out;

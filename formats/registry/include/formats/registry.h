@@ -46,6 +46,9 @@ struct WriteOptions {
     // colorTolerance, at most maxSvgPatches SVG patches in all).
     std::string svgColors = "bicubic";
     int64_t maxSvgPatches = 2'000'000;
+    // SVG: "embed" (default) puts the mesh script for browsers without mesh support at the end
+    // of every SVG that holds meshes (docs/browsers.md); "none" leaves it out.
+    std::string svgScript = "embed";
     double colorTolerance = 1.0 / 255.0;  // exact-colour subdivision tolerance (0–1 units)
     double minPiece = 1.0;  // exact colours: no sub-patch shorter than this along s or t,
                             // canvas pixels (exactColorPieces); 0: no limit

@@ -18,6 +18,9 @@
 //    column i is split ku_i times and patch row j kv_j times, with ku_i / kv_j the largest
 //    per-patch count along s / t over that column / row. Refused over
 //    WriteOptions::maxSvgPatches SVG patches.
+// Browsers implement no meshgradient: unless WriteOptions::svgScript is "none", the document
+// ends with a <script> (formats/svg/script/mesh_polyfill.js, minified) that draws the meshes
+// where the browser cannot (docs/browsers.md). Inkscape and our reader ignore it.
 // A path ending in ".svgz" is written gzip-compressed; gzip input is read either way.
 //
 // Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and

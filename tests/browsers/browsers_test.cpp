@@ -1,0 +1,283 @@
+// The mesh script an SVG carries (formats/svg/script/mesh_polyfill.js) in the browsers users
+// open our files in: headless Chromium (WebGL by SwiftShader) and Firefox ESR draw the default
+// SVG of an object (the apple), of an object with holes (pic1) and of a whole image (HappyFish,
+// --segment), opened directly and inline in an HTML page, as `gradmesh render` draws it, with
+// no pixel of a mesh left uncovered.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "formats/raster.h"
+#include "support/browser.h"
+#include "support/cli_run.h"
+#include "support/compare.h"
+
+using namespace gmtest;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The page background: a colour no sample mesh holds, so that a pixel a mesh leaves
+// uncovered shows.
+constexpr float kBackground[3] = {1.0f, 0.0f, 1.0f};  // #ff00ff
+
+struct Sample {
+    std::string name, convert;  // convert: the gradmesh arguments that make the mesh
+    int width = 0, height = 0;
+};
+
+const std::vector<Sample>& samples() {
+    const std::string S = std::string(GRADMESH_SAMPLES) + "/";
+    static const std::vector<Sample> all = {
+        {"apple", "convert " + q(S + "apple.jpg") + " --mask " + q(S + "apple_mask.png"), 512, 512},
+        {"pic1", "convert " + q(S + "pic1.png"), 400, 300},
+        {"fish", "convert " + q(S + "HappyFish.jpg") + " --segment", 259, 194},
+    };
+    return all;
+}
+
+void writeFile(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// Converts the samples named once per test case: NAME.gmb, NAME.svg (the default SVG) and
+// NAME_ours.png (our render of the SVG), in a directory of the case's own (ctest runs the cases
+// as separate processes, possibly at the same time).
+fs::path preparedSamples(const std::string& testCase, const std::vector<std::string>& names) {
+    static std::map<std::string, fs::path> prepared;
+    if (auto it = prepared.find(testCase); it != prepared.end()) return it->second;
+    const fs::path d = scratchDir("browsers_samples_", testCase);
+    for (const Sample& s : samples()) {
+        if (std::find(names.begin(), names.end(), s.name) == names.end()) continue;
+        const fs::path gmb = d / (s.name + ".gmb"), svg = d / (s.name + ".svg");
+        const Run conv = runGradmesh(s.convert + " -o " + q(gmb), d);
+        INFO(conv.err);
+        REQUIRE(conv.code == 0);
+        REQUIRE(runGradmesh("convert " + q(gmb) + " -o " + q(svg), d).code == 0);
+        REQUIRE(runGradmesh("render " + q(svg) + " -o " + q(d / (s.name + "_ours.png")), d).code == 0);
+    }
+    return prepared[testCase] = d;
+}
+
+// The SVG as a document of its own on the background colour (a style on the root element).
+std::string directPage(std::string svg) {
+    const size_t root = svg.find("<svg");
+    REQUIRE(root != std::string::npos);
+    svg.insert(root + 4, " style=\"background:#ff00ff\"");
+    return svg;
+}
+
+// The SVGs inline in one HTML page with no margin, one under the other, on the background
+// colour: each carries the script and they repeat each other's ids, as on a page that shows
+// several conversions.
+std::string inlinePage(const std::vector<std::string>& svgs) {
+    std::string page = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>meshes</title>"
+                       "<style>body{margin:0;background:#ff00ff}svg{display:block}</style></head><body>\n";
+    for (const std::string& svg : svgs) {
+        const size_t root = svg.find("<svg");
+        REQUIRE(root != std::string::npos);
+        page += svg.substr(root);
+    }
+    return page + "</body></html>\n";
+}
+
+// Rows [y0, y0 + height) of the image.
+gm::RgbaImage rows(const gm::RgbaImage& image, int y0, int width, int height) {
+    gm::RgbaImage out(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int k = 0; k < 4; ++k)
+                out.at(x, y)[k] = x < image.width && y0 + y < image.height ? image.at(x, y0 + y)[k] : 0.0f;
+    return out;
+}
+
+struct Coverage {
+    size_t uncovered = 0;    // interior pixels showing mostly background
+    double worst = 0;        // the largest background fraction seen in the interior
+};
+
+// How much of the background shows through each pixel of `ours`' interior (opaque, eroded
+// 1 px) in the screenshot: the fraction f with shot = (1−f)·ours + f·background, estimated
+// along the direction from our colour to the background's. Pixels whose colour is near the
+// background's say nothing and are left out.
+Coverage coverage(const gm::RgbaImage& ours, const gm::RgbaImage& shot) {
+    Coverage c;
+    const int W = ours.width, H = ours.height;
+    auto solid = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < W && y < H && ours.at(x, y)[3] >= 0.999f;
+    };
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            bool inside = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) inside = inside && solid(x + dx, y + dy);
+            if (!inside) continue;
+            double along = 0, span = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double toBackground = kBackground[k] - ours.at(x, y)[k];
+                along += (shot.at(x, y)[k] - ours.at(x, y)[k]) * toBackground;
+                span += toBackground * toBackground;
+            }
+            if (span < 0.4 * 0.4) continue;
+            const double f = along / span;
+            c.worst = std::max(c.worst, f);
+            if (f > 0.4) ++c.uncovered;
+        }
+    return c;
+}
+
+struct Drawn {
+    DiffStats diff;
+    Coverage cover;
+};
+
+// Our render of the sample (prepared in `dir`) against the rows [y0, y0 + its height) of a
+// screenshot.
+Drawn compareWithOurs(const fs::path& dir, const Sample& s, const gm::RgbaImage& shot, int y0) {
+    const gm::RgbaImage ours = gm::readImage((dir / (s.name + "_ours.png")).string());
+    REQUIRE(ours.width == s.width);
+    REQUIRE(ours.height == s.height);
+    const gm::RgbaImage theirs = rows(shot, y0, s.width, s.height);
+    return {compareInterior(ours, theirs, 1), coverage(ours, theirs)};
+}
+
+// Screenshots `page` (width × height CSS px) in browser `b`; checks that the browser ran it
+// cleanly and returns the picture.
+gm::RgbaImage screenshot(Browser b, const fs::path& page, int width, int height, const fs::path& work) {
+    const fs::path png = work / (page.stem().string() + "_" + browserName(b) + ".png");
+    fs::remove(png);
+    const BrowserShot shot = browserScreenshot(b, page, width, height, png, work);
+    INFO(browserName(b) << " on " << page.string() << "\n" << shot.console);
+    REQUIRE(shot.code == 0);
+    REQUIRE(fs::exists(png));
+    CHECK(shot.console.empty());  // no error, no warning: the script prints nothing
+    const gm::RgbaImage image = gm::readImage(png.string());
+    REQUIRE(image.width == width);
+    REQUIRE(image.height == height);
+    return image;
+}
+
+void checkDrawn(Browser b, const std::string& where, const Drawn& d) {
+    WARN(browserName(b) << ", " << where << ": E " << d.diff.mean << ", max " << d.diff.max << " over "
+                        << d.diff.count << " px; uncovered " << d.cover.uncovered
+                        << " px (largest background share " << d.cover.worst << ")");
+    CHECK(d.diff.count > 1000);
+    CHECK(d.diff.mean <= 1.5);
+    CHECK(d.cover.uncovered == 0);
+}
+
+void checkBrowser(Browser b) {
+    if (!browserAvailable(b)) {
+        WARN(browserName(b) << " is not installed: skipped");
+        return;
+    }
+    const fs::path work = scratchDir("browsers_", browserName(b));
+    const fs::path dir = preparedSamples(browserName(b), {"apple", "pic1", "fish"});
+    std::vector<std::string> svgs;
+    int pageWidth = 0, pageHeight = 0;
+    for (const Sample& s : samples()) {
+        svgs.push_back(slurp(dir / (s.name + ".svg")));
+        REQUIRE(svgs.back().find("<script") != std::string::npos);
+        const fs::path direct = work / (s.name + "_direct.svg");
+        writeFile(direct, directPage(svgs.back()));
+        checkDrawn(b, direct.filename().string(),
+                   compareWithOurs(dir, s, screenshot(b, direct, s.width, s.height, work), 0));
+        pageWidth = std::max(pageWidth, s.width);
+        pageHeight += s.height;
+    }
+    const fs::path inlined = work / "inline.html";
+    writeFile(inlined, inlinePage(svgs));
+    const gm::RgbaImage page = screenshot(b, inlined, pageWidth, pageHeight, work);
+    int y0 = 0;
+    for (const Sample& s : samples()) {
+        checkDrawn(b, s.name + " inline in " + inlined.filename().string(), compareWithOurs(dir, s, page, y0));
+        y0 += s.height;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("Chromium draws the meshes of our SVGs, directly and inline", "[browsers][external]") {
+    checkBrowser(Browser::Chromium);
+}
+
+TEST_CASE("Firefox ESR draws the meshes of our SVGs, directly and inline", "[browsers][external]") {
+    checkBrowser(Browser::Firefox);
+}
+
+TEST_CASE("the script draws meshes painted through style, and Inkscape's resaved file",
+          "[browsers][external]") {
+    if (!browserAvailable(Browser::Chromium)) {
+        WARN("chromium is not installed: skipped");
+        return;
+    }
+    const fs::path work = scratchDir("browsers_", "style");
+    const Sample& apple = samples().front();
+    const fs::path dir = preparedSamples("style", {"apple"});
+    const std::string svg = slurp(dir / "apple.svg");
+
+    // style="fill:url(#id) none", as Inkscape writes a mesh paint it has edited.
+    std::string styled = svg;
+    size_t replaced = 0;
+    for (size_t at = styled.find("fill=\"url(#"); at != std::string::npos;
+         at = styled.find("fill=\"url(#", at)) {
+        const size_t close = styled.find(")\"", at);
+        const std::string id = styled.substr(at + 11, close - at - 11);
+        styled.replace(at, close + 2 - at, "style=\"fill:url(#" + id + ") none\"");
+        ++replaced;
+    }
+    REQUIRE(replaced > 0);
+    writeFile(work / "styled.svg", directPage(styled));
+    checkDrawn(Browser::Chromium, "style=\"fill:url(#m0) none\"",
+               compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "styled.svg", apple.width,
+                                                 apple.height, work), 0));
+
+    // Inkscape's own save of the file (it keeps our script and adds its own).
+    if (runCommand("command -v inkscape >/dev/null 2>&1") != 0) {
+        WARN("inkscape is not installed: the resaved file is not checked");
+        return;
+    }
+    const std::string home = (work / "inkscape-home").string();
+    writeFile(work / "apple.svg", svg);
+    REQUIRE(runCommand("HOME=" + q(home) + " XDG_CONFIG_HOME=" + q(home) +
+                       " timeout 120 inkscape --export-type=svg --export-filename=" +
+                       q(work / "resaved.svg") + " " + q(work / "apple.svg") + " >/dev/null 2>&1") == 0);
+    const std::string resaved = slurp(work / "resaved.svg");
+    CHECK(resaved.find("<meshgradient") != std::string::npos);
+    writeFile(work / "resaved_page.svg", directPage(resaved));
+    checkDrawn(Browser::Chromium, "Inkscape-resaved",
+               compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "resaved_page.svg",
+                                                 apple.width, apple.height, work), 0));
+}
+
+TEST_CASE("the SVG ends with one well-formed script, and --svg-script none leaves it out",
+          "[browsers]") {
+    const fs::path d = scratchDir("browsers_", "option");
+    const fs::path gmb = preparedSamples("option", {"pic1"}) / "pic1.gmb";
+    REQUIRE(runGradmesh("convert " + q(gmb) + " -o " + q(d / "none.svg") + " --svg-script none", d).code == 0);
+    REQUIRE(runGradmesh("convert " + q(gmb) + " -o " + q(d / "embed.svg"), d).code == 0);
+    const std::string none = slurp(d / "none.svg"), embed = slurp(d / "embed.svg");
+    CHECK(none.find("<script") == std::string::npos);
+    CHECK(none.find("<meshgradient") != std::string::npos);
+    const size_t script = embed.find("<script type=\"text/javascript\"><![CDATA[");
+    REQUIRE(script != std::string::npos);
+    const size_t end = embed.find("]]></script>", script);
+    REQUIRE(end != std::string::npos);
+    CHECK(embed.find("]]>", script) == end);  // the script holds no CDATA end of its own
+    CHECK(embed.substr(end) == "]]></script>\n</svg>\n");
+    WARN("the script adds " << embed.size() - none.size() << " bytes to an SVG");
+    CHECK(embed.size() - none.size() <= 10240 + 64);
+    // Our reader ignores the script: both files read back to the same render.
+    REQUIRE(runGradmesh("render " + q(d / "none.svg") + " -o " + q(d / "none.png"), d).code == 0);
+    REQUIRE(runGradmesh("render " + q(d / "embed.svg") + " -o " + q(d / "embed.png"), d).code == 0);
+    CHECK(slurp(d / "none.png") == slurp(d / "embed.png"));
+    const Run bad = runGradmesh("convert " + q(gmb) + " -o " + q(d / "x.svg") + " --svg-script inline", d);
+    CHECK(bad.code == 2);
+    CHECK(bad.err.find("--svg-script expects embed or none") != std::string::npos);
+}
