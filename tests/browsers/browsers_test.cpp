@@ -211,7 +211,7 @@ TEST_CASE("Firefox ESR draws the meshes of our SVGs, directly and inline", "[bro
     checkBrowser(Browser::Firefox);
 }
 
-TEST_CASE("the script draws meshes painted through style, and Inkscape's resaved file",
+TEST_CASE("the script draws meshes painted through style or the fill attribute, and Inkscape's resaved file",
           "[browsers][external]") {
     if (!browserAvailable(Browser::Chromium)) {
         WARN("chromium is not installed: skipped");
@@ -222,21 +222,29 @@ TEST_CASE("the script draws meshes painted through style, and Inkscape's resaved
     const fs::path dir = preparedSamples("style", {"apple"});
     const std::string svg = slurp(dir / "apple.svg");
 
-    // style="fill:url(#id) none", as Inkscape writes a mesh paint it has edited.
-    std::string styled = svg;
-    size_t replaced = 0;
-    for (size_t at = styled.find("fill=\"url(#"); at != std::string::npos;
-         at = styled.find("fill=\"url(#", at)) {
-        const size_t close = styled.find(")\"", at);
-        const std::string id = styled.substr(at + 11, close - at - 11);
-        styled.replace(at, close + 2 - at, "style=\"fill:url(#" + id + ") none\"");
-        ++replaced;
-    }
-    REQUIRE(replaced > 0);
-    writeFile(work / "styled.svg", directPage(styled));
+    // gradmesh writes style="fill:url(#id) none", as Inkscape does; older gradmesh files paint
+    // with the fill="url(#id)" attribute. Both must draw.
+    REQUIRE(svg.find("style=\"fill:url(#") != std::string::npos);
+    writeFile(work / "styled.svg", directPage(svg));
     checkDrawn(Browser::Chromium, "style=\"fill:url(#m0) none\"",
                compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "styled.svg", apple.width,
                                                  apple.height, work), 0));
+    std::string attributed = svg;
+    size_t replaced = 0;
+    for (size_t at = attributed.find("style=\"fill:url(#"); at != std::string::npos;
+         at = attributed.find("style=\"fill:url(#", at)) {
+        const size_t close = attributed.find(") none\"", at);
+        REQUIRE(close != std::string::npos);
+        const std::string id = attributed.substr(at + 17, close - at - 17);
+        attributed.replace(at, close + 7 - at, "fill=\"url(#" + id + ")\"");
+        ++replaced;
+    }
+    REQUIRE(replaced > 0);
+    REQUIRE(attributed.find("fill=\"url(#m0)\"") != std::string::npos);
+    writeFile(work / "attributed.svg", directPage(attributed));
+    checkDrawn(Browser::Chromium, "fill=\"url(#m0)\"",
+               compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "attributed.svg",
+                                                 apple.width, apple.height, work), 0));
 
     // Inkscape's own save of the file (it keeps our script and adds its own).
     if (runCommand("command -v inkscape >/dev/null 2>&1") != 0) {
