@@ -123,7 +123,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "bench-out", "consumers"))
     ap.add_argument("--only", default="")
     a = ap.parse_args()
-    gm = os.path.join(a.build, "converters", "gradmesh")
+    gm = os.path.join(a.build, "app", "gradmesh")
     os.makedirs(a.out, exist_ok=True)
     b = Bench(gm, a.out)
     S = lambda f: os.path.join(ROOT, "samples", f)

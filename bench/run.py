@@ -122,7 +122,7 @@ def main():
     a = ap.parse_args()
 
     build = os.path.abspath(a.build)
-    gm = os.path.join(build, "converters", "gradmesh")
+    gm = os.path.join(build, "app", "gradmesh")
     make_samples = os.path.join(build, "bench", "make_samples")
     jm = os.path.join(build, "bench", "jpeg_match")
     out = os.path.abspath(a.out or os.path.join(build, "bench", "out"))

@@ -19,7 +19,7 @@ root=$PWD
 build=${1:-build}
 case $build in /*) ;; *) build=$root/$build ;; esac
 
-if [ ! -x "$build/converters/gradmesh" ]; then
+if [ ! -x "$build/app/gradmesh" ]; then
   if [ "$(realpath -m "$build")" = "$(realpath -m "$root/build")" ]; then
     echo "== building $build (scripts/build.sh)" >&2
     bash scripts/build.sh >&2

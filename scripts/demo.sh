@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
 mkdir -p out
-gm=build/converters/gradmesh
+gm=build/app/gradmesh
 set -x
 # The main job: a photographed object with its mask -> gradient mesh, in every output format.
 $gm convert samples/apple.jpg --mask samples/apple_mask.png -o out/apple.gmb --report out/apple.json

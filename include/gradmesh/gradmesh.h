@@ -25,6 +25,8 @@
 
 // The conversion pipeline: object masks, one object's regions, whole images by segmentation.
 #include "converters/bicubic_model.h"
+#include "converters/compact_file.h"
+#include "converters/conversion_report.h"
 #include "converters/convert_image.h"
 #include "converters/convert_segments.h"
 #include "converters/foreground.h"

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "base64.h"
+#include "formats/base64.h"
 
 TEST_CASE("base64 gives RFC 4648's test vectors", "[fallback]") {
     CHECK(gm::base64Encode("") == "");

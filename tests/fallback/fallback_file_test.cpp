@@ -100,7 +100,7 @@ TEST_CASE("the reader reads the meshes of a fallback SVG as without it, either p
     }
 }
 
-TEST_CASE("--svg-fallback from an image, from an SVG, and its bad values", "[fallback]") {
+TEST_CASE("the option --svg-fallback from an image, from an SVG, and its bad values", "[fallback]") {
     const fs::path d = tmpDir("cli");
     const fs::path S(GRADMESH_SAMPLES);
     // Straight from an image, and again from the SVG written.

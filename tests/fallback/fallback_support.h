@@ -2,6 +2,8 @@
 // images compared as the suite compares renderers.
 #pragma once
 
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -38,11 +40,13 @@ inline const Sample kSamples[] = {
     {"fish", "convert " + q(fs::path(GRADMESH_SAMPLES) / "HappyFish.jpg") + " --segment"},
 };
 
-// The sample's .gmb, converted on first use and kept for the run's other tests.
+// The sample's .gmb, converted on first use and kept for the process's other tests. The folder
+// is the process's own: ctest runs test cases as parallel processes.
 inline fs::path sampleGmb(const Sample& s) {
     static std::map<std::string, fs::path> done;
     if (auto it = done.find(s.name); it != done.end()) return it->second;
-    const fs::path d = tmpDir("sample_" + s.name), gmb = d / (s.name + ".gmb");
+    const fs::path d = tmpDir("sample_" + s.name + "_" + std::to_string(::getpid())),
+                   gmb = d / (s.name + ".gmb");
     const gmtest::Run r = gmtest::runGradmesh(s.convert + " -o " + q(gmb), d);
     INFO(r.err);
     REQUIRE(r.code == 0);

@@ -127,12 +127,13 @@ TEST_CASE("view: convert --report PAGE.html writes the page with the conversion'
     CHECK(requireStageShowsRender(d / "apple.html", d / "render.png", d) == "");
 }
 
-// The SVG writer will carry a mesh script defining window.gradmeshMeshes (issue 23): a stand-in
-// for it, put into the page's inline SVG, fills the mesh shapes red when its redraw() is
-// called, and opens the page at 2x (before the page's own script reads the address).
+// The SVG's mesh script defines window.gradmeshMeshes: a stand-in for it, put into the page's
+// inline SVG before the real one (which then leaves drawing to the first definition, calling
+// its scan()), fills the mesh shapes red when its redraw() is called, and opens the page at 2x
+// (before the page's own script reads the address).
 const char* const kMeshScriptStandIn =
     "<script>history.replaceState(null, '', '#zoom=2');"
-    "window.gradmeshMeshes = {redraw: function () {"
+    "window.gradmeshMeshes = {scan: function () {}, redraw: function () {"
     "  var shapes = document.querySelectorAll('#gv-vector path');"
     "  for (var k = 0; k != shapes.length; ++k) shapes[k].setAttribute('fill', '#ff0000');"
     "}};</script>";

@@ -1,6 +1,6 @@
 #include "svg_fallback_layer.h"
 
-#include "base64.h"
+#include "formats/base64.h"
 #include "meshcore/error.h"
 
 namespace gm {

@@ -118,8 +118,8 @@ SvgPatchGrid refinedGrid(const std::vector<BezierPatch>& base, int C, int R,
 
 // Compact syntax: a patch's tensor (interior) points are written only when one lies further
 // than this (px) from the Coons interior Inkscape assumes without them. They move the inside
-// of a patch, not its edges or colours: leaving all of them out changed Inkscape's render of
-// the apple by E 0.007, and our reader does not keep them.
+// of a patch, not its edges or colours, so leaving the small ones out is invisible in
+// Inkscape, and our reader does not keep them.
 constexpr double kTensorTolerance = 1.0;
 
 // How numbers are written: decimals per coordinate, and whether separators are left out where

@@ -41,8 +41,8 @@ struct WriteOptions {
     int compactLevel = 0;             // .gmb compact: coarser grids, 0 to kGmbMaxCompactLevel
                                       // (gmb.h), or kCompactLevelAuto (image conversions only)
     bool legacy = false;              // write every mesh as its hole-free pieces
-    // SVG: "bicubic" (one SVG patch per mesh patch, type="bicubic", compact syntax; "editable"
-    // is its former name) or "exact" (each patch subdivided until bilinear colour is within
+    // SVG: "bicubic" (one SVG patch per mesh patch, type="bicubic", compact syntax; alias
+    // "editable") or "exact" (each patch subdivided until bilinear colour is within
     // colorTolerance, at most maxSvgPatches SVG patches in all).
     std::string svgColors = "bicubic";
     int64_t maxSvgPatches = 2'000'000;

@@ -1,4 +1,4 @@
-// .svg — SVG 2 <meshgradient> (FORMATS.md): written for Inkscape, read back from our own files
+// .svg — SVG 2 <meshgradient> (docs/formats.md): written for Inkscape, read back from our own files
 // and from what Inkscape saves after opening them.
 //
 // The canvas maps 1:1 to the SVG user space: viewBox "0 0 W H", pixels, y down. Every hole-free

@@ -32,14 +32,14 @@ std::string colorModelOf(const Document& doc) {
 std::string pairsJson(const std::vector<std::pair<std::string, double>>& rows) {
     std::string s = "[";
     for (const auto& [name, value] : rows)
-        s += (s.size() > 1 ? "," : "") + ("[" + jsonQuote(name) + "," + jsonNumber(value) + "]");
+        s += (s.size() > 1 ? "," : "") + ("[" + jsonString(name) + "," + jsonNumber(value) + "]");
     return s + "]";
 }
 
 std::string factsJson(const std::vector<std::pair<std::string, std::string>>& rows) {
     std::string s = "[";
     for (const auto& [label, value] : rows)
-        s += (s.size() > 1 ? "," : "") + ("[" + jsonQuote(label) + "," + jsonQuote(value) + "]");
+        s += (s.size() > 1 ? "," : "") + ("[" + jsonString(label) + "," + jsonString(value) + "]");
     return s + "]";
 }
 
@@ -47,8 +47,8 @@ std::string sizesJson(const std::vector<FormatSize>& sizes) {
     std::string s = "[";
     for (const FormatSize& f : sizes)
         s += (s.size() > 1 ? "," : "") +
-             ("{\"format\":" + jsonQuote(f.format) + ",\"bytes\":" +
-              (f.bytes < 0 ? "null" : std::to_string(f.bytes)) + ",\"note\":" + jsonQuote(f.note) + "}");
+             ("{\"format\":" + jsonString(f.format) + ",\"bytes\":" +
+              (f.bytes < 0 ? "null" : std::to_string(f.bytes)) + ",\"note\":" + jsonString(f.note) + "}");
     return s + "]";
 }
 
@@ -86,15 +86,15 @@ struct PageParts {
 std::string figuresJson(const Document& doc, const ViewFigures& f, const ViewEncodings& encodings,
                         PageParts parts, const std::vector<std::pair<std::string, double>>& pageSeconds) {
     std::string s = "{";
-    s += "\"title\":" + jsonQuote(f.title);
-    s += ",\"source\":" + jsonQuote(f.sourceName);
+    s += "\"title\":" + jsonString(f.title);
+    s += ",\"source\":" + jsonString(f.sourceName);
     s += ",\"width\":" + std::to_string(doc.width) + ",\"height\":" + std::to_string(doc.height);
     s += ",\"patches\":" + std::to_string(documentPatches(doc));
     s += ",\"meshes\":" + std::to_string(doc.meshes.size());
     s += ",\"holes\":" + std::to_string(holesOf(doc));
-    s += ",\"colorModel\":" + jsonQuote(f.colorModel.empty() ? colorModelOf(doc) : f.colorModel);
+    s += ",\"colorModel\":" + jsonString(f.colorModel.empty() ? colorModelOf(doc) : f.colorModel);
     s += ",\"error\":" + (f.haveError ? "{\"E\":" + jsonNumber(f.meanAbs) + ",\"psnr\":" +
-                                            jsonNumber(f.psnr) + ",\"over\":" + jsonQuote(f.errorOver) + "}"
+                                            jsonNumber(f.psnr) + ",\"over\":" + jsonString(f.errorOver) + "}"
                                       : std::string("null"));
     s += ",\"errorScale\":" + jsonNumber(kErrorMapScale) + ",\"errorColors\":" + errorScaleJson();
     s += ",\"seconds\":" + pairsJson(f.seconds) + ",\"pageSeconds\":" + pairsJson(pageSeconds);

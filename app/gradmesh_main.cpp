@@ -487,7 +487,7 @@ static bool isThreadStartFailure(const std::exception& e) {
 int main(int argc, char** argv) {
     // Refinement allocates and frees the same image-sized buffers (render samples, the fit's
     // system) on every step; glibc hands blocks over its mmap threshold back to the kernel and
-    // the next step faults them in again (11 % of a 12,000-patch conversion of a 512² object).
+    // the next step faults them in again, a large share of a long conversion's time.
     // Blocks up to 32 MB stay in the heap, which is trimmed only above 256 MB of free space.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
