@@ -25,8 +25,7 @@
   if (window.SVGMeshGradientElement) return;  // native meshes
   if (window.gradmeshMeshes) return window.gradmeshMeshes.scan();
 
-  const {abs, ceil, floor, max, min, sqrt} = Math;
-  const hypot = (x, y) => sqrt(x * x + y * y);  // Math.hypot is several times slower
+  const {abs, ceil, floor, hypot, max, min, sqrt} = Math;
   const SVG_NS = 'http://www.w3.org/2000/svg', F64 = Float64Array;
   const create = (name, ns = 'http://www.w3.org/1999/xhtml') => document.createElementNS(ns, name);
   // Largest canvas side and area drawn (device pixels; a side WebGL implementations take in
@@ -321,14 +320,17 @@
 
   // ---- Drawing -----------------------------------------------------------------------------
 
-  // The shared WebGL context (one for every mesh on the page) with its program, or null.
+  // The shared WebGL 2 context (one for every mesh on the page) with its program, or null. Not
+  // on SwiftShader (Chromium's WebGL without a GPU), which draws the triangles several times
+  // slower than the script's own rasteriser.
   function webgl() {
     if (gl !== undefined || (gl = null) || options.noWebGL) return gl;
     try {
-      const ctx = create('canvas').getContext('webgl', {antialias: false});
-      const program = ctx.createProgram();
+      const ctx = create('canvas').getContext('webgl2', {antialias: false}), program = ctx.createProgram();
+      if (options.noWebGL !== false && ctx.getExtension('WEBGL_debug_renderer_info') &&
+          /SwiftShader/.test(ctx.getParameter(37446))) return gl;  // UNMASKED_RENDERER_WEBGL
       [[VERTEX_SHADER, 'attribute vec2 p;attribute vec3 c;uniform vec2 z;varying vec3 v;' +
-         'void main(){v=c;gl_Position=vec4((p/z*2.-1.)*vec2(1,-1),0,1);}'],
+         'void main(){v=c;gl_Position=vec4(p*z+vec2(-1,1),0,1);}'],
        [FRAGMENT_SHADER, 'precision highp float;varying vec3 v;void main(){gl_FragColor=vec4(v,1.);}']
       ].forEach(([type, source]) => {
         const shader = ctx.createShader(type);
@@ -336,16 +338,13 @@
         ctx.compileShader(shader);
         ctx.attachShader(program, shader);
       });
-      ctx.bindAttribLocation(program, 0, 'p');  // positions, then colours
-      ctx.bindAttribLocation(program, 1, 'c');
+      ['p', 'c'].map((name, k) => ctx.bindAttribLocation(program, k, name));  // positions, then colours
       ctx.linkProgram(program);
-      if (ctx.getExtension('OES_element_index_uint') && ctx.getProgramParameter(program, LINK_STATUS)) {
+      if (ctx.getProgramParameter(program, LINK_STATUS)) {
         ctx.useProgram(program);
         ctx.bindBuffer(ELEMENT_ARRAY_BUFFER, ctx.createBuffer());
-        ctx.enableVertexAttribArray(0);
-        ctx.enableVertexAttribArray(1);
         ctx.bindBuffer(ARRAY_BUFFER, ctx.createBuffer());
-        [0, 1].map((k) => ctx.vertexAttribPointer(k, k + 2, FLOAT, false, 20, 8 * k));
+        [0, 1].map((k) => ctx.enableVertexAttribArray(k) || ctx.vertexAttribPointer(k, k + 2, FLOAT, false, 20, 8 * k));
         gl = {ctx, size: ctx.getUniformLocation(program, 'z')};
       }
     } catch {}  // gl stays null
@@ -441,7 +440,7 @@
         ctx.canvas.height = height;
         ctx.viewport(0, 0, width, height);
         ctx.clear(COLOR_BUFFER_BIT);
-        ctx.uniform2f(gl.size, width, height);
+        ctx.uniform2f(gl.size, 2 / width, -2 / height);  // device px to clip space, y up
       }
       for (const j of batch) {
         const triangles = tessellate(j.record.mesh,
