@@ -2,8 +2,9 @@
 # Draw time of the SVG mesh script (formats/svg/script/mesh_polyfill.js) in headless Chromium:
 # a whole image (fruits, --segment: ~24,000 patches) converted to the default SVG, opened with
 # window.gradmeshMeshOptions = {timing: true}, so that the script prints the time it took to
-# find, parse, tessellate, draw and paint every mesh; read from Chromium's log. Runs WebGL
-# (SwiftShader) and the canvas 2D fallback RUNS times each.
+# find, parse, tessellate, draw and paint every mesh; read from Chromium's log. Runs RUNS times
+# each: the default (on SwiftShader the script uses its canvas 2D path), WebGL forced
+# ({noWebGL: false}: WebGL on SwiftShader) and the canvas 2D path ({noWebGL: true}).
 # Usage: bash bench/browser_draw.sh [RUNS]   (outputs under bench-out/browser/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,8 +16,9 @@ mkdir -p "$out"
 $gm convert "$out/fruits.gmb" -o "$out/fruits.svg"
 $gm info "$out/fruits.gmb" | grep -E "^(canvas|patches):"
 echo "script: $(wc -c < build/formats/svg/generated/mesh_polyfill.min.js) bytes minified"
-for mode in webgl 2d; do
+for mode in default webgl 2d; do
   options='{timing:true}'
+  [ $mode = webgl ] && options='{timing:true,noWebGL:false}'
   [ $mode = 2d ] && options='{timing:true,noWebGL:true}'
   # The options go in a script before the meshes, right after the root element's start tag.
   python3 - "$out/fruits.svg" "$out/fruits_$mode.svg" "$options" <<'PY'

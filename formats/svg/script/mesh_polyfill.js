@@ -25,9 +25,9 @@
   if (window.SVGMeshGradientElement) return;  // native meshes
   if (window.gradmeshMeshes) return window.gradmeshMeshes.scan();
 
-  const {abs, ceil, floor, max, min, sqrt} = Math;
-  const hypot = (x, y) => sqrt(x * x + y * y);  // Math.hypot is several times slower
-  const SVG_NS = 'http://www.w3.org/2000/svg', HTML_NS = 'http://www.w3.org/1999/xhtml';
+  const {abs, ceil, floor, hypot, max, min, sqrt} = Math;
+  const SVG_NS = 'http://www.w3.org/2000/svg', F64 = Float64Array;
+  const create = (name, ns = 'http://www.w3.org/1999/xhtml') => document.createElementNS(ns, name);
   // Largest canvas side and area drawn (device pixels; a side WebGL implementations take in
   // practice); larger boxes are drawn coarser.
   const MAX_SIDE = 4096, MAX_AREA = 1 << 24;
@@ -44,7 +44,9 @@
   let patternCount = 0;
   let gl;  // the shared WebGL context: undefined until tried, then {ctx, size} or null
   // WebGL enums (the minifier cannot shorten their names).
-  const ARRAY_BUFFER = 34962, ELEMENT_ARRAY_BUFFER = 34963, STREAM_DRAW = 35040;
+  const ARRAY_BUFFER = 34962, ELEMENT_ARRAY_BUFFER = 34963, STREAM_DRAW = 35040, VERTEX_SHADER = 35633;
+  const FRAGMENT_SHADER = 35632, LINK_STATUS = 35714, FLOAT = 5126, TRIANGLES = 4, UNSIGNED_INT = 5125;
+  const COLOR_BUFFER_BIT = 16384;
 
   // ---- Parsing ---------------------------------------------------------------------------
 
@@ -77,7 +79,6 @@
   const multiply = (m, t) => [m[0] * t[0] + m[2] * t[1], m[1] * t[0] + m[3] * t[1],
     m[0] * t[2] + m[2] * t[3], m[1] * t[2] + m[3] * t[3],
     m[0] * t[4] + m[2] * t[5] + m[4], m[1] * t[4] + m[3] * t[5] + m[5]];  // first t, then m
-  const apply = (m, p) => [m[0] * p[0] + m[2] * p[1] + m[4], m[1] * p[0] + m[3] * p[1] + m[5]];
 
   // A gradientTransform: matrix, translate and scale (what editors write).
   function parseTransform(text) {
@@ -95,10 +96,9 @@
   // One stop's edge from `start`: [handle 1, handle 2, end]. A closing edge ends at the corner
   // `end` already known, and may leave its end point out.
   function parseEdge(stop, start, end) {
-    const path = stop.getAttribute('path').trim(), v = numbers(path.slice(1));
-    const point = (k) => (/[cl]/.test(path[0]) ? apply([1, 0, 0, 1, ...start], v.slice(2 * k)) :
-      v.slice(2 * k, 2 * k + 2));
-    if (/c/i.test(path[0])) return [point(0), point(1), v.length > 4 ? point(2) : end];
+    const path = stop.getAttribute('path').trim(), v = numbers(path), c = path[0], r = c == 'c' || c == 'l';
+    const point = (k) => [v[2 * k] + (r && start[0]), v[2 * k + 1] + (r && start[1])];
+    if (c == 'c' || c == 'C') return [point(0), point(1), v.length > 4 ? point(2) : end];
     if (v.length) end = point(0);
     return [lerp(start, end, 1 / 3), lerp(start, end, 2 / 3), end];
   }
@@ -172,42 +172,47 @@
     return {g, L};
   }
 
-  // Per patch: the colours of its corners [a][b] and their slopes along s (S) and t (T) per
-  // unit of the patch parameter, from the rows' and the columns' lines.
+  // Per patch k, 36 numbers from 36 k: for its corners (a, b) in the order 00, 01, 10, 11, the
+  // colour and its slopes along s and along t per unit of the patch parameter (3 each), from
+  // the rows' and the columns' lines.
   function patchColours(mesh) {
     const {C, R, P, colour} = mesh, W = C + 1;
-    const line = (count, index) => {
-      const at = [...Array(count).keys()].map(index);
-      return lineSlopes(at.map((k) => P[k]), at.map((k) => colour[k] || [0, 0, 0]));
-    };
-    const rows = [...Array(R + 1).keys()].map((r) => line(W, (n) => r * W + n));
-    const cols = [...Array(W).keys()].map((c) => line(R + 1, (n) => n * W + c));
-    const scaled = (f, v) => [f * v[0], f * v[1], f * v[2]];
-    mesh.colours = [];
-    for (let r = 0; r < R; r++)
-      for (let c = 0; c < C; c++) {
-        const corner = (a, b) => ({col: colour[(r + b) * W + c + a] || [0, 0, 0],
-                                   S: scaled(rows[r + b].L[c], rows[r + b].g[c + a]),
-                                   T: scaled(cols[c + a].L[r], cols[c + a].g[r + b])});
-        mesh.colours.push([[corner(0, 0), corner(0, 1)], [corner(1, 0), corner(1, 1)]]);
-      }
+    const line = (at) => lineSlopes(at.map((k) => P[k]), at.map((k) => colour[k] || [0, 0, 0]));
+    const range = (count, f) => [...Array(count).keys()].map(f);
+    const rows = range(R + 1, (r) => line(range(W, (n) => r * W + n)));
+    const cols = range(W, (c) => line(range(R + 1, (n) => n * W + c)));
+    const out = mesh.colours = new F64(36 * R * C);
+    for (let r = 0, o = 0; r < R; r++)
+      for (let c = 0; c < C; c++)
+        for (let a = 0; a < 2; a++)
+          for (let b = 0; b < 2; b++, o += 9)
+            for (let ch = 0; ch < 3; ch++) {
+              out[o + ch] = (colour[(r + b) * W + c + a] || [0, 0, 0])[ch];
+              out[o + 3 + ch] = rows[r + b].L[c] * rows[r + b].g[c + a][ch];
+              out[o + 6 + ch] = cols[c + a].L[r] * cols[c + a].g[r + b][ch];
+            }
   }
 
   // ---- Tessellation ------------------------------------------------------------------------
 
-  // The 4×4 control net q[a][b] (a along s) of patch (c, r) through the affine transform m.
-  function controlNet(mesh, c, r, m) {
-    const {C, P, H, V} = mesh, W = C + 1, t = mesh.tensor[r * C + c];
-    const top = H[r * C + c], bottom = H[(r + 1) * C + c], left = V[r * W + c], right = V[r * W + c + 1];
-    const corners = [P[r * W + c], P[r * W + c + 1], P[(r + 1) * W + c + 1], P[(r + 1) * W + c]];
-    const q = [[corners[0], left[0], left[1], corners[3]], [top[0], , , bottom[0]],
-               [top[1], , , bottom[1]], [corners[1], right[0], right[1], corners[2]]];
-    // Interior points next to corners 00, 30, 33, 03, as `tensor` lists them.
-    [[1, 1], [2, 1], [2, 2], [1, 2]].forEach(([a, b], k) => {
-      q[a][b] = t.length > 7 ? [corners[k][0] + t[2 * k], corners[k][1] + t[2 * k + 1]] :
-        coonsInterior(q, a > 1, b > 1);
-    });
-    return q.map((column) => column.map((p) => apply(m, p)));
+  // The 4×4 control nets of the patches, 32 numbers per patch from 32 k: point q[a][b] (a along
+  // s) at 8 a + 2 b, in the meshgradient's coordinates.
+  function controlNets(mesh) {
+    const {C, R, P, H, V} = mesh, W = C + 1, Q = mesh.Q = new F64(32 * R * C);
+    for (let r = 0; r < R; r++)
+      for (let c = 0; c < C; c++) {
+        const t = mesh.tensor[r * C + c], top = H[r * C + c], bottom = H[(r + 1) * C + c], left = V[r * W + c];
+        const right = V[r * W + c + 1];
+        const corners = [P[r * W + c], P[r * W + c + 1], P[(r + 1) * W + c + 1], P[(r + 1) * W + c]];
+        const q = [[corners[0], left[0], left[1], corners[3]], [top[0], , , bottom[0]],
+                   [top[1], , , bottom[1]], [corners[1], right[0], right[1], corners[2]]];
+        // Interior points next to corners 00, 30, 33, 03, as `tensor` lists them.
+        [[1, 1], [2, 1], [2, 2], [1, 2]].forEach(([a, b], k) => {
+          q[a][b] = t.length > 7 ? [corners[k][0] + t[2 * k], corners[k][1] + t[2 * k + 1]] :
+            coonsInterior(q, a > 1, b > 1);
+        });
+        Q.set(q.flat(2), 32 * (r * C + c));
+      }
   }
 
   // The interior point of a Coons patch written as a tensor patch, next to corner
@@ -224,260 +229,299 @@
     return p;
   }
 
-  // Cells along s (along = 0) or t (1) that keep a patch's triangles within the tolerances:
-  // for the position from the control net's second differences and twists (device px), for
-  // the colour from the Hermite data (basis second derivatives are at most 6 for values, 4
+  // Cells along s (along = 0) or t (1) that keep patch k's triangles within the tolerances:
+  // for the position from its control net q (device px) by the second differences and twists,
+  // for the colour from the Hermite data (basis second derivatives are at most 6 for values, 4
   // for slopes), but no smaller than SMALLEST_CELL for the colour's sake.
-  function cellsFor(mesh, q, colours, along) {
-    const at = (i, j) => along ? q[j][i] : q[i][j];
+  function cellsFor(bicubic, q, colours, k, along) {
+    const x = (i, j, c) => q[32 * k + 2 * (along ? 4 * j + i : 4 * i + j) + c];
+    const d = (f) => hypot(f(0), f(1));
     let bend = 0, twist = 0, length = 0, colour = 0;
     for (let j = 0; j < 4; j++)
       for (let i = 0; i < 3; i++) {
-        const p = at(i, j), n = at(i + 1, j);
-        length = max(length, 3 * hypot(n[0] - p[0], n[1] - p[1]));
-        if (i < 2) bend = max(bend, hypot(at(i + 2, j)[0] - 2 * n[0] + p[0], at(i + 2, j)[1] - 2 * n[1] + p[1]));
-        if (j < 3) twist = max(twist, hypot(at(i + 1, j + 1)[0] - n[0] - at(i, j + 1)[0] + p[0],
-                                                at(i + 1, j + 1)[1] - n[1] - at(i, j + 1)[1] + p[1]));
+        length = max(length, 3 * d((c) => x(i + 1, j, c) - x(i, j, c)));
+        if (i < 2) bend = max(bend, d((c) => x(i + 2, j, c) - 2 * x(i + 1, j, c) + x(i, j, c)));
+        if (j < 3) twist = max(twist, d((c) => x(i + 1, j + 1, c) - x(i + 1, j, c) - x(i, j + 1, c) + x(i, j, c)));
       }
-    for (let k = 0; k < 2 && mesh.bicubic; k++)
+    for (let b = 0; b < 2 && bicubic; b++)
       for (let ch = 0; ch < 3; ch++) {
-        const c0 = along ? colours[k][0] : colours[0][k], c1 = along ? colours[k][1] : colours[1][k];
-        const slope = (c) => abs((along ? c.T : c.S)[ch]);
-        colour = max(colour, 6 * abs(c1.col[ch] - c0.col[ch]) + 4 * slope(c0) + 4 * slope(c1));
+        // Corners (0, b) and (1, b) along s, (b, 0) and (b, 1) along t, and their slopes.
+        const c0 = 36 * k + 9 * (along ? 2 * b : b) + ch, c1 = c0 + (along ? 9 : 18), s = along ? 6 : 3;
+        colour = max(colour, 6 * abs(colours[c1] - colours[c0]) + 4 * abs(colours[c0 + s]) + 4 * abs(colours[c1 + s]));
       }
     const n = max(sqrt((6 * bend + 9 * twist) / (4 * POSITION_TOLERANCE)),
                        min(sqrt(colour / (8 * COLOUR_TOLERANCE)), length / SMALLEST_CELL));
     return min(MAX_CELLS, ceil(n) || 1);
   }
 
-  const bernstein = (u, v = 1 - u) => [v * v * v, 3 * u * v * v, 3 * u * u * v, u * u * u];
-  const hermite = (u, u2 = u * u, u3 = u2 * u) => [1 - 3 * u2 + 2 * u3, 3 * u2 - 2 * u3, u - 2 * u2 + u3, u3 - u2];
+  // For u = a / n (a = 0 … n), 8 numbers from 8 a: the cubic Bernstein basis and the colour's
+  // basis (bicubic: Hermite for two values and two slopes; bilinear: 1 − u, u).
+  function basis(n, bicubic) {
+    const table = [];
+    for (let a = 0, u = 0, v = 1; a <= n; v = 1 - (u = ++a / n))
+      table.push(v * v * v, 3 * u * v * v, 3 * u * u * v, u * u * u,
+        ...(bicubic ? [v * v * (1 + 2 * u), u * u * (3 - 2 * u), u * v * v, -u * u * v] : [v, u, 0, 0]));
+    return table;
+  }
 
-  // The meshgradient as triangles through the affine transform m (device pixels): positions
-  // xy, colours rgb (0–1) and vertex indices, each patch a grid of cells of its own. Where two
+  // The meshgradient as triangles through the affine transform m (device pixels): vertices
+  // (x, y and the colour r, g, b 0–1, 5 numbers each) and vertex indices, each patch a grid of cells of its own. Where two
   // neighbours are cut differently, the chords of their shared edge part by at most twice the
   // position tolerance; the dilation fills any pixel whose centre falls between them.
-  function tessellate(mesh, m) {
+  function tessellate({Q, colours, bicubic}, m) {
+    const count = Q.length / 32, q = new F64(Q.length), cuts = new Uint8Array(2 * count);
+    const points = new F64(8), colour = new F64(12);
     let vertices = 0, cells = 0, v = 0, n = 0;
-    const patches = mesh.colours.map((corners, k) => {
-      const q = controlNet(mesh, k % mesh.C, floor(k / mesh.C), m);
-      const ns = cellsFor(mesh, q, corners, 0), nt = cellsFor(mesh, q, corners, 1);
+    for (let i = 0; i < Q.length; i += 2) {
+      q[i] = m[0] * Q[i] + m[2] * Q[i + 1] + m[4];
+      q[i + 1] = m[1] * Q[i] + m[3] * Q[i + 1] + m[5];
+    }
+    for (let k = 0; k < count; k++) {
+      const ns = cuts[2 * k] = cellsFor(bicubic, q, colours, k, 0), nt = cuts[2 * k + 1] = cellsFor(bicubic, q, colours, k, 1);
       vertices += (ns + 1) * (nt + 1);
       cells += ns * nt;
-      return {q, corners, ns, nt};
-    });
-    const xy = new Float32Array(2 * vertices), rgb = new Float32Array(3 * vertices);
-    const indices = new Uint32Array(6 * cells);
-    for (const {q, corners, ns, nt} of patches) {
-      // Bilinear colour is the Hermite form with the basis (1 − u, u) and no slopes.
-      const basis = mesh.bicubic ? hermite : (u) => [1 - u, u, 0, 0], Bs = [], Hs = [];
-      for (let a = 0; a <= ns; a++) {
-        Bs[a] = bernstein(a / ns);
-        Hs[a] = basis(a / ns);
-      }
-      const cell = [0, 1, ns + 2, 0, ns + 2, ns + 1];  // a cell's two triangles from its first vertex
+    }
+    const xy = new Float32Array(5 * vertices), indices = new Uint32Array(6 * cells);
+    for (let k = 0; k < count; k++) {
+      const ns = cuts[2 * k], nt = cuts[2 * k + 1], S = basis(ns, bicubic), T = basis(nt, bicubic), o = 32 * k;
       for (let b = 0; b <= nt; b++) {
         // The patch at this t: control points along s, and for the corner columns i = 0, 1 the
-        // colour and its slope along s.
-        const Bt = bernstein(b / nt), Ht = basis(b / nt);
-        const points = q.map((column) => [0, 1].map((k) => Bt.reduce((sum, w, j) => sum + w * column[j][k], 0)));
-        const along = (i, f) => [0, 1, 2].map((ch) => Ht[0] * f(corners[i][0], 0)[ch] + Ht[1] * f(corners[i][1], 1)[ch] +
-                                                      Ht[2] * f(corners[i][0], 2)[ch] + Ht[3] * f(corners[i][1], 3)[ch]);
-        const colour = [0, 1].map((i) => along(i, (c, j) => j < 2 ? c.col : c.T));
-        const slope = [0, 1].map((i) => along(i, (c, j) => j < 2 ? c.S : [0, 0, 0]));
+        // colour and its slope along s (colour[6 i], colour[6 i + 3]).
+        const t = 8 * b;
+        for (let i = 0; i < 8; i++) {
+          const e = o + 4 * i - 3 * (i % 2);  // q[i >> 1][0], coordinate i % 2
+          points[i] = T[t] * q[e] + T[t + 1] * q[e + 2] + T[t + 2] * q[e + 4] + T[t + 3] * q[e + 6];
+        }
+        for (let i = 0; i < 6; i++) {
+          const c = 36 * k + 18 * (i > 2) + i % 3;  // corner (i > 2, 0), channel i % 3
+          colour[i + 3 * (i > 2)] = T[t + 4] * colours[c] + T[t + 5] * colours[c + 9] + T[t + 6] * colours[c + 6] +
+            T[t + 7] * colours[c + 15];
+          colour[i + 3 + 3 * (i > 2)] = T[t + 4] * colours[c + 3] + T[t + 5] * colours[c + 12];
+        }
         for (let a = 0; a <= ns; a++, v++) {
-          const B = Bs[a], H = Hs[a];
-          for (let k = 0; k < 2; k++)
-            xy[2 * v + k] = B[0] * points[0][k] + B[1] * points[1][k] + B[2] * points[2][k] + B[3] * points[3][k];
+          const s = 8 * a;
+          for (let c = 0; c < 2; c++)
+            xy[5 * v + c] = S[s] * points[c] + S[s + 1] * points[2 + c] + S[s + 2] * points[4 + c] + S[s + 3] * points[6 + c];
           for (let ch = 0; ch < 3; ch++)
-            rgb[3 * v + ch] = H[0] * colour[0][ch] + H[1] * colour[1][ch] + H[2] * slope[0][ch] + H[3] * slope[1][ch];
-          for (let k = 0; a < ns && b < nt && k < 6; k++) indices[n++] = v + cell[k];
+            xy[5 * v + 2 + ch] = S[s + 4] * colour[ch] + S[s + 5] * colour[6 + ch] + S[s + 6] * colour[3 + ch] +
+              S[s + 7] * colour[9 + ch];
+          if (a < ns && b < nt) {  // the cell's two triangles
+            indices[n] = indices[n + 3] = v;
+            indices[n + 1] = v + 1;
+            indices[n + 2] = indices[n + 4] = v + ns + 2;
+            indices[n + 5] = v + ns + 1;
+            n += 6;
+          }
         }
       }
     }
-    return {xy, rgb, indices};
+    return {xy, indices};
   }
 
   // ---- Drawing -----------------------------------------------------------------------------
 
-  // The shared WebGL context (one for every mesh on the page) with its program, or null.
+  // The shared WebGL 2 context (one for every mesh on the page) with its program, or null. Not
+  // on SwiftShader (Chromium's WebGL without a GPU), which draws the triangles several times
+  // slower than the script's own rasteriser.
   function webgl() {
     if (gl !== undefined || (gl = null) || options.noWebGL) return gl;
     try {
-      const ctx = document.createElementNS(HTML_NS, 'canvas').getContext('webgl', {antialias: false});
-      const program = ctx.createProgram();
-      [[ctx.VERTEX_SHADER, 'attribute vec2 p;attribute vec3 c;uniform vec2 z;varying vec3 v;' +
-         'void main(){v=c;gl_Position=vec4((p/z*2.-1.)*vec2(1,-1),0,1);}'],
-       [ctx.FRAGMENT_SHADER, 'precision highp float;varying vec3 v;void main(){gl_FragColor=vec4(v,1.);}']
+      const ctx = create('canvas').getContext('webgl2', {antialias: false}), program = ctx.createProgram();
+      if (options.noWebGL !== false && ctx.getExtension('WEBGL_debug_renderer_info') &&
+          /SwiftShader/.test(ctx.getParameter(37446))) return gl;  // UNMASKED_RENDERER_WEBGL
+      [[VERTEX_SHADER, 'attribute vec2 p;attribute vec3 c;uniform vec2 z;varying vec3 v;' +
+         'void main(){v=c;gl_Position=vec4(p*z+vec2(-1,1),0,1);}'],
+       [FRAGMENT_SHADER, 'precision highp float;varying vec3 v;void main(){gl_FragColor=vec4(v,1.);}']
       ].forEach(([type, source]) => {
         const shader = ctx.createShader(type);
         ctx.shaderSource(shader, source);
         ctx.compileShader(shader);
         ctx.attachShader(program, shader);
       });
-      ctx.bindAttribLocation(program, 0, 'p');  // positions, then colours
-      ctx.bindAttribLocation(program, 1, 'c');
+      ['p', 'c'].map((name, k) => ctx.bindAttribLocation(program, k, name));  // positions, then colours
       ctx.linkProgram(program);
-      if (ctx.getExtension('OES_element_index_uint') && ctx.getProgramParameter(program, ctx.LINK_STATUS)) {
+      if (ctx.getProgramParameter(program, LINK_STATUS)) {
         ctx.useProgram(program);
         ctx.bindBuffer(ELEMENT_ARRAY_BUFFER, ctx.createBuffer());
-        ctx.enableVertexAttribArray(0);
-        ctx.enableVertexAttribArray(1);
+        ctx.bindBuffer(ARRAY_BUFFER, ctx.createBuffer());
+        [0, 1].map((k) => ctx.enableVertexAttribArray(k) || ctx.vertexAttribPointer(k, k + 2, FLOAT, false, 20, 8 * k));
         gl = {ctx, size: ctx.getUniformLocation(program, 'z')};
       }
-    } catch (e) {
-      gl = null;
-    }
+    } catch {}  // gl stays null
     return gl;
   }
 
-  // Draws the triangles with WebGL into the 2D context `out` (device row 0 at the top).
-  function drawWebGL({xy, rgb, indices}, out) {
-    const {ctx, size} = gl, {width, height} = out.canvas;
-    ctx.canvas.width = width;
-    ctx.canvas.height = height;
-    ctx.viewport(0, 0, width, height);
-    ctx.clear(ctx.COLOR_BUFFER_BIT);
-    ctx.uniform2f(size, width, height);
-    ctx.bufferData(ELEMENT_ARRAY_BUFFER, indices, STREAM_DRAW);
-    const buffers = [xy, rgb].map((data, k) => {
-      const buffer = ctx.createBuffer();
-      ctx.bindBuffer(ARRAY_BUFFER, buffer);
-      ctx.bufferData(ARRAY_BUFFER, data, STREAM_DRAW);
-      ctx.vertexAttribPointer(k, k + 2, ctx.FLOAT, false, 0, 0);
-      return buffer;
-    });
-    ctx.drawElements(ctx.TRIANGLES, indices.length, ctx.UNSIGNED_INT, 0);
-    buffers.forEach((b) => ctx.deleteBuffer(b));
-    out.drawImage(ctx.canvas, 0, 0);  // in the same task, before the drawing buffer is cleared
-  }
-
-  // Draws the triangles into the 2D context `out` in script (the canvas 2D fallback): every pixel whose
-  // centre a triangle covers (edges included) gets the colour interpolated there.
-  function drawSoftware({xy, rgb, indices}, out) {
-    const {width: w, height: h} = out.canvas, image = out.createImageData(w, h), pixels = image.data;
+  // Draws the triangles into the RGBA pixels (w wide) in script (the canvas 2D fallback): every
+  // pixel whose centre a triangle covers (edges included) gets the colour interpolated there.
+  // The triangles lie within the pixels' rows (a write outside a typed array is ignored).
+  function drawSoftware({xy, indices}, pixels, w) {
     for (let k = 0; k < indices.length; k += 3) {
-      const [i0, i1, i2] = indices.subarray(k, k + 3), x0 = xy[2 * i0], y0 = xy[2 * i0 + 1];
-      const dx1 = xy[2 * i1] - x0, dy1 = xy[2 * i1 + 1] - y0, dx2 = xy[2 * i2] - x0, dy2 = xy[2 * i2 + 1] - y0;
-      const area = dx1 * dy2 - dx2 * dy1;
-      const xs = [0, dx1, dx2].map((d) => d + x0), ys = [0, dy1, dy2].map((d) => d + y0);
-      for (let y = max(0, floor(min(...ys))); area && y < min(h, max(...ys)); y++)
-        for (let x = max(0, floor(min(...xs))); x < min(w, max(...xs)); x++) {
+      const i0 = 5 * indices[k], i1 = 5 * indices[k + 1], i2 = 5 * indices[k + 2], x0 = xy[i0], y0 = xy[i0 + 1];
+      const dx1 = xy[i1] - x0, dy1 = xy[i1 + 1] - y0, dx2 = xy[i2] - x0, dy2 = xy[i2 + 1] - y0;
+      const area = dx1 * dy2 - dx2 * dy1, xe = min(w, x0 + max(0, dx1, dx2)), ye = y0 + max(0, dy1, dy2);
+      for (let y = floor(y0 + min(0, dy1, dy2)); area && y < ye; y++)
+        for (let x = max(0, floor(x0 + min(0, dx1, dx2))); x < xe; x++) {
           // Barycentric weights of vertices 1 and 2 at the pixel centre.
           const px = x + 0.5 - x0, py = y + 0.5 - y0;
           const w1 = (px * dy2 - dx2 * py) / area, w2 = (dx1 * py - px * dy1) / area, w0 = 1 - w1 - w2;
-          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          if (min(w0, w1, w2) < 0) continue;
           const o = 4 * (y * w + x);
           for (let ch = 0; ch < 3; ch++)
-            pixels[o + ch] = 255 * (w0 * rgb[3 * i0 + ch] + w1 * rgb[3 * i1 + ch] + w2 * rgb[3 * i2 + ch]);  // rounded by the array
+            pixels[o + ch] = 255 * (w0 * xy[i0 + 2 + ch] + w1 * xy[i1 + 2 + ch] + w2 * xy[i2 + 2 + ch]);  // rounded by the array
           pixels[o + 3] = 255;
         }
     }
-    out.putImageData(image, 0, 0);
   }
 
   // Grows the drawn pixels by DILATION pixels: a transparent pixel next to drawn ones takes
   // the colour of the first of them (sides before corners).
+  const NEAR = [-1, 0, 1, 0, 0, -1, 0, 1, -1, -1, 1, -1, -1, 1, 1, 1];
   function dilate(pixels, w, h) {
     const rgba = new Uint32Array(pixels.buffer);  // one pixel per element, 0 where transparent
     for (let step = 0; step < DILATION; step++) {
       const drawn = rgba.slice();
       for (let y = 0, k = 0; y < h; y++)
-        for (let x = 0; x < w; x++, k++) {
-          const l = x > 0, r = x < w - 1, u = y > 0, d = y < h - 1;
-          if (!drawn[k])
-            rgba[k] = (l && drawn[k - 1]) || (r && drawn[k + 1]) || (u && drawn[k - w]) || (d && drawn[k + w]) ||
-              (l && u && drawn[k - w - 1]) || (r && u && drawn[k - w + 1]) || (l && d && drawn[k + w - 1]) ||
-              (r && d && drawn[k + w + 1]);  // false stores 0
-        }
+        for (let x = 0; x < w; x++, k++)
+          for (let n = 0; !drawn[k] && n < 8; n++) {
+            // Neighbours left, right, up, down, then the corners.
+            const X = x + NEAR[2 * n], Y = y + NEAR[2 * n + 1];
+            if (X >>> 0 < w && Y >>> 0 < h && (rgba[k] = drawn[Y * w + X])) break;  // 0 ≤ X < w, 0 ≤ Y < h
+          }
     }
   }
 
   // ---- Shapes ------------------------------------------------------------------------------
 
-  // The box [x0, y0, x1, y1] of the points through m.
+  // The box [x0, y0, x1, y1] of the points [x, y, x, y, …] through m.
   function box(points, m) {
     const b = [Infinity, Infinity, -Infinity, -Infinity];
-    for (let p of points) {
-      p = apply(m, p);
-      b[0] = min(b[0], p[0]);
-      b[1] = min(b[1], p[1]);
-      b[2] = max(b[2], p[0]);
-      b[3] = max(b[3], p[1]);
+    for (let i = 0; i < points.length; i += 2) {
+      const x = m[0] * points[i] + m[2] * points[i + 1] + m[4], y = m[1] * points[i] + m[3] * points[i + 1] + m[5];
+      b[0] = min(b[0], x);
+      b[1] = min(b[1], y);
+      b[2] = max(b[2], x);
+      b[3] = max(b[3], y);
     }
     return b;
   }
 
-  // Draws one shape's mesh at the resolution it is shown at, unless that has not changed.
-  function draw(record) {
+  // What drawing one shape's mesh at the resolution it is shown at takes: its transform to
+  // device pixels m and the device box [x, y, w, h] drawn; nothing if that has not changed.
+  function job(record) {
     const ctm = record.shape.getScreenCTM(), ratio = devicePixelRatio;
     if (!ctm) return;  // not rendered
-    let m = [ctm.a, ctm.b, ctm.c, ctm.d, ctm.e, ctm.f].map((v) => v * ratio);
-    if (m.join() == record.key) return;
-    record.key = m.join();
-    const mesh = record.mesh, points = [...mesh.P, ...mesh.H.flat(), ...mesh.V.flat()].filter((p) => p);
-    let b = box(points, multiply(m, mesh.transform));
-    const side = MAX_SIDE - 2 * DILATION - 4;
+    let m = [...'abcdef'].map((k) => ctm[k] * ratio);
+    if (record.key == (record.key = m.join())) return;
+    const mesh = record.mesh;
+    let b = box(mesh.Q, multiply(m, mesh.transform));
+    const side = MAX_SIDE - 8;  // room for the dilation and the margins
     const shrink = min(1, side / (b[2] - b[0]), side / (b[3] - b[1]),
                             sqrt(MAX_AREA / (b[2] - b[0] + 1) / (b[3] - b[1] + 1)));
     if (!(shrink > 0)) return;
     m = m.map((v) => v * shrink);
     b = b.map((v) => v * shrink);
-    const x0 = floor(b[0]) - DILATION - 1, y0 = floor(b[1]) - DILATION - 1;
-    const w = ceil(b[2]) + DILATION + 1 - x0, h = ceil(b[3]) + DILATION + 1 - y0;
-    const triangles = tessellate(mesh, multiply([1, 0, 0, 1, -x0, -y0], multiply(m, mesh.transform)));
-    const canvas = document.createElementNS(HTML_NS, 'canvas'), out = canvas.getContext('2d', {willReadFrequently: true});  // pixels kept in memory
-    canvas.width = w;
-    canvas.height = h;
-    (webgl() ? drawWebGL : drawSoftware)(triangles, out);
-    const image = out.getImageData(0, 0, w, h);
-    dilate(image.data, w, h);
-    out.putImageData(image, 0, 0);
-    paint(record, m, [x0, y0, w, h], canvas.toDataURL());
+    const x = floor(b[0]) - DILATION - 1, y = floor(b[1]) - DILATION - 1;
+    return {record, m, x, y, w: ceil(b[2]) + DILATION + 1 - x, h: ceil(b[3]) + DILATION + 1 - y};
   }
+
+  // Draws the jobs one under the other on one canvas (WebGL) or one array of pixels (2D) as
+  // long as they fit in MAX_SIDE rows, read back at once; then each one's pixels are grown,
+  // put on a canvas of its own and painted.
+  function drawAll(jobs) {
+    let batch = [], height = 0, width = 1;
+    const flush = () => {
+      const pixels = new Uint8ClampedArray(4 * width * height), atlas = create('canvas').getContext('2d', {willReadFrequently: true});
+      if (!height) return;
+      atlas.canvas.width = width;
+      atlas.canvas.height = height;
+      const ctx = webgl()?.ctx;
+      if (ctx) {
+        ctx.canvas.width = width;
+        ctx.canvas.height = height;
+        ctx.viewport(0, 0, width, height);
+        ctx.clear(COLOR_BUFFER_BIT);
+        ctx.uniform2f(gl.size, 2 / width, -2 / height);  // device px to clip space, y up
+      }
+      for (const j of batch) {
+        const triangles = tessellate(j.record.mesh,
+          multiply([1, 0, 0, 1, -j.x, j.ay - j.y], multiply(j.m, j.record.mesh.transform)));
+        if (!ctx) drawSoftware(triangles, pixels, width);
+        else {
+          ctx.bufferData(ELEMENT_ARRAY_BUFFER, triangles.indices, STREAM_DRAW);
+          ctx.bufferData(ARRAY_BUFFER, triangles.xy, STREAM_DRAW);
+          ctx.drawElements(TRIANGLES, triangles.indices.length, UNSIGNED_INT, 0);
+        }
+      }
+      // Read back through a 2D canvas (Chromium warns on the console of a WebGL readPixels), in
+      // the same task, before the drawing buffer is cleared.
+      ctx ? atlas.drawImage(ctx.canvas, 0, 0) : atlas.putImageData(new ImageData(pixels, width), 0, 0);
+      for (const j of batch) {
+        const {w, h} = j, image = atlas.getImageData(0, j.ay, w, h), canvas = create('canvas');
+        dilate(image.data, w, h);
+        canvas.width = w;
+        canvas.height = h;
+        canvas.getContext('2d').putImageData(image, 0, 0);
+        paint(j, canvas.toDataURL());
+      }
+      batch = [];
+      height = 0;
+      width = 1;
+    };
+    for (const j of jobs) {
+      if (height + j.h > MAX_SIDE) flush();
+      j.ay = height;
+      height += j.h;
+      width = max(width, j.w);
+      batch.push(j);
+    }
+    flush();
+  }
+
+  const drawRecords = (list) => drawAll(list.map(job).filter((j) => j));
 
   // Paints the shape with the image: a pattern in device pixels (patternTransform maps them to
   // the shape's user space) whose one tile holds the shape's whole box, so that no second copy
   // of the image shows inside the shape.
-  function paint(record, m, [x, y, w, h], url) {
+  function paint({record, m, x, y, w, h}, url) {
     if (!record.pattern) {
-      record.pattern = document.createElementNS(SVG_NS, 'pattern');
-      record.image = record.pattern.appendChild(document.createElementNS(SVG_NS, 'image'));
+      record.pattern = create('pattern', SVG_NS);
+      record.image = record.pattern.appendChild(create('image', SVG_NS));
       record.pattern.id = 'gradmesh-' + ++patternCount;
       record.gradient.before(record.pattern);
       record.shape.style.fill = `url(#${record.pattern.id})`;
     }
-    const d = m[0] * m[3] - m[1] * m[2], bbox = record.shape.getBBox();
-    const inverse = [m[3], -m[1], -m[2], m[0], m[2] * m[5] - m[3] * m[4], m[1] * m[4] - m[0] * m[5]].map((v) => v / d);
-    const tile = box([[bbox.x, bbox.y], [bbox.x + bbox.width, bbox.y + bbox.height], [bbox.x, bbox.y + bbox.height],
-                      [bbox.x + bbox.width, bbox.y]], m);
+    const {x: left, y: top, width, height} = record.shape.getBBox();
+    const tile = box([left, top, left + width, top + height, left, top + height, left + width, top], m);
     const tx = floor(tile[0]) - 2, ty = floor(tile[1]) - 2;
     const set = (el, values) => Object.entries(values).forEach(([name, value]) => el.setAttribute(name, value));
-    set(record.pattern, {patternUnits: 'userSpaceOnUse', patternTransform: `matrix(${inverse})`, x: tx, y: ty,
+    set(record.pattern, {patternUnits: 'userSpaceOnUse', patternTransform: new DOMMatrix(m).inverse(), x: tx, y: ty,
                          width: ceil(tile[2]) + 2 - tx, height: ceil(tile[3]) + 2 - ty});
     set(record.image, {x: x - tx, y: y - ty, width: w, height: h, href: url});  // tile-relative
   }
 
   // Finds the shapes painted with a meshgradient that are not drawn yet, and draws them.
   function scan() {
-    const started = performance.now();
-    let found = 0;
+    const started = performance.now(), found = [];
     for (const shape of document.querySelectorAll('path,rect,circle,ellipse,polygon,polyline')) {
       const id = !shape.gradmeshRecord && shape.namespaceURI == SVG_NS && paintedId(shape);
       const gradient = id && elementById(shape, id);
       if (!gradient || gradient.localName != 'meshgradient') continue;
-      if (!gradient.gradmeshMesh) patchColours(gradient.gradmeshMesh = parseMesh(gradient));
-      if (!gradient.gradmeshMesh.C) continue;
-      records.push(shape.gradmeshRecord = {shape, gradient, mesh: gradient.gradmeshMesh});
-      draw(shape.gradmeshRecord);
-      found++;
+      const mesh = gradient.gradmeshMesh || (gradient.gradmeshMesh = parseMesh(gradient));
+      if (!mesh.C) continue;
+      if (!mesh.Q) {
+        patchColours(mesh);
+        controlNets(mesh);
+      }
+      records.push(shape.gradmeshRecord = {shape, gradient, mesh});
+      found.push(shape.gradmeshRecord);
     }
-    if (options.timing && found)
-      console.log(`gradmesh ${found} meshes ${performance.now() - started} ms ${gl ? 'webgl' : '2d'}`);
+    drawRecords(found);
+    if (options.timing && found.length)
+      console.log(`gradmesh ${found.length} meshes ${performance.now() - started} ms ${gl ? 'webgl' : '2d'}`);
   }
 
   // Draws again every mesh whose transform to the screen has changed (zoom, resize).
-  const redraw = () => records.forEach(draw);
+  const redraw = () => drawRecords(records);
 
   window.gradmeshMeshes = {scan, redraw, get mode() { return webgl() ? 'webgl' : '2d'; }};
   let pending = 0;
