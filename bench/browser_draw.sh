@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3}
-gm=build/converters/gradmesh
+gm=build/app/gradmesh
 out=bench-out/browser
 mkdir -p "$out"
 [ -f "$out/fruits.gmb" ] || $gm convert samples/fruits.jpg --segment -o "$out/fruits.gmb" >/dev/null

@@ -135,7 +135,7 @@ const char* const kMeshScriptStandIn =
     "<script>history.replaceState(null, '', '#zoom=2');"
     "window.gradmeshMeshes = {scan: function () {}, redraw: function () {"
     "  var shapes = document.querySelectorAll('#gv-vector path');"
-    "  for (var k = 0; k != shapes.length; ++k) shapes[k].setAttribute('fill', '#ff0000');"
+    "  for (var k = 0; k != shapes.length; ++k) shapes[k].style.fill = '#ff0000';"
     "}};</script>";
 
 TEST_CASE("view: zoomed in, the page shows the inline SVG and has the SVG's mesh script redraw it") {
