@@ -382,149 +382,67 @@ Components components4(const std::vector<int>& labels, int W, int H) {
     return cc;
 }
 
-// Splits labels into 4-connected components and merges every component under minRegion pixels
-// or no wider than sliverWidth pixels (each of its pixels within (sliverWidth-1)/2 steps of
-// another region) into the 4-adjacent one of the most similar mean colour (ties: the longest
-// shared border); then merges adjacent regions whose shared border is weak (mean colour step
-// across it under weakEdge), weakest first. The union of two 4-adjacent 4-connected sets is
-// 4-connected, so every label ends as one 4-connected component. Relabels 0..count-1 by size,
-// largest first.
-MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp) {
-    const int W = bgr.cols, H = bgr.rows;
-    const Components cc = components4(labels, W, H);
-    const int C = cc.count;
-    MergeResult res;
-    res.components = C;
-    const size_t N = labels.size();
-    const cv::Vec3b* colour = bgr.ptr<cv::Vec3b>(0);  // continuous
-    std::vector<long> size(C, 0);
-    std::vector<double> sum(static_cast<size_t>(C) * 3, 0.0);
-    for (size_t p = 0; p < N; ++p) {
-        const int c = cc.of[p];
-        ++size[c];
-        for (int k = 0; k < 3; ++k) sum[c * 3 + k] += colour[p][k];
-    }
-    // Shared borders: pixel pairs, and the sum of the colour steps across them, each measured
-    // between the pixels one further out on either side (blurred edges are 2–3 pixels wide).
-    struct Border {
-        long length = 0;
-        double step = 0;
-    };
-    std::vector<std::unordered_map<int, Border>> adj(C);
-    auto colorStep = [&](size_t p, size_t q) {
-        double d = 0;
-        for (int k = 0; k < 3; ++k) {
-            const double e = static_cast<double>(colour[p][k]) - colour[q][k];
-            d += e * e;
+// The 4-connected components of a label map as a graph: each component's size and colour sum,
+// its shared borders with its neighbours, and a union-find over merges.
+class RegionGraph {
+public:
+    RegionGraph(const cv::Mat& bgr, const std::vector<int>& labels)
+        : W_(bgr.cols), H_(bgr.rows), cc_(components4(labels, W_, H_)), C_(cc_.count),
+          colour_(bgr.ptr<cv::Vec3b>(0)), size_(C_, 0), sum_(static_cast<size_t>(C_) * 3, 0.0),
+          adj_(C_), thin_(C_, 0), parent_(C_) {
+        for (size_t p = 0; p < labels.size(); ++p) {
+            const int c = cc_.of[p];
+            ++size_[c];
+            for (int k = 0; k < 3; ++k) sum_[c * 3 + k] += colour_[p][k];
         }
-        return std::sqrt(d);
-    };
-    auto link = [&](int a, int b, double step) {
-        Border& ab = adj[a][b];
-        ++ab.length;
-        ab.step += step;
-        Border& ba = adj[b][a];
-        ++ba.length;
-        ba.step += step;
-    };
-    cv::Mat interior(H, W, CV_8U, cv::Scalar(255));  // 0 on pixels with a foreign 4-neighbour
-    for (int y = 0; y < H; ++y) {
-        auto* in = interior.ptr<uint8_t>(y);
-        for (int x = 0; x < W; ++x) {
-            const size_t p = static_cast<size_t>(y) * W + x;
-            if (x + 1 < W && cc.of[p] != cc.of[p + 1]) {
-                link(cc.of[p], cc.of[p + 1],
-                     colorStep(p - (x > 0 ? 1 : 0), p + 1 + (x + 2 < W ? 1 : 0)));
-                in[x] = in[x + 1] = 0;
-            }
-            if (y + 1 < H && cc.of[p] != cc.of[p + W]) {
-                link(cc.of[p], cc.of[p + W],
-                     colorStep(p - (y > 0 ? W : 0), p + W + (y + 2 < H ? W : 0)));
-                in[x] = 0;
-                interior.ptr<uint8_t>(y + 1)[x] = 0;
-            }
-        }
+        for (int c = 0; c < C_; ++c) parent_[c] = c;
+        linkBorders();
     }
-    std::vector<uint8_t> thin(C, 0);
-    if (mp.sliverWidth > 0 && C > 1) {
+
+    int components() const { return C_; }
+
+    // Marks components no wider than sliverWidth (each pixel within (sliverWidth-1)/2 steps of
+    // another region).
+    void markThin(int sliverWidth) {
+        if (sliverWidth <= 0 || C_ <= 1) return;
         cv::Mat dist;  // steps (4-neighbour) to the nearest pixel on a region boundary
-        cv::distanceTransform(interior, dist, cv::DIST_L1, 3);
-        std::vector<float> maxDist(C, 0);
-        for (int y = 0; y < H; ++y) {
+        cv::distanceTransform(interior_, dist, cv::DIST_L1, 3);
+        std::vector<float> maxDist(C_, 0);
+        for (int y = 0; y < H_; ++y) {
             const float* d = dist.ptr<float>(y);
-            for (int x = 0; x < W; ++x) {
-                const int c = cc.of[static_cast<size_t>(y) * W + x];
+            for (int x = 0; x < W_; ++x) {
+                const int c = cc_.of[static_cast<size_t>(y) * W_ + x];
                 maxDist[c] = std::max(maxDist[c], d[x]);
             }
         }
-        const float limit = static_cast<float>((mp.sliverWidth - 1) / 2) + 0.25f;
-        for (int c = 0; c < C; ++c) thin[c] = maxDist[c] <= limit;
+        const float limit = static_cast<float>((sliverWidth - 1) / 2) + 0.25f;
+        for (int c = 0; c < C_; ++c) thin_[c] = maxDist[c] <= limit;
     }
 
-    std::vector<int> parent(C);
-    for (int c = 0; c < C; ++c) parent[c] = c;
-    auto find = [&](int c) {
-        while (parent[c] != c) c = parent[c] = parent[parent[c]];
-        return c;
-    };
-    // Merges a and b (both roots, adjacent); the one with the larger adjacency map survives.
-    auto unite = [&](int a, int b) {
-        if (adj[a].size() > adj[b].size()) std::swap(a, b);  // a goes into b
-        for (const auto& [n, border] : adj[a]) {
-            if (n == b) continue;
-            auto& an = adj[n];
-            an.erase(a);
-            Border& nb = an[b];
-            nb.length += border.length;
-            nb.step += border.step;
-            Border& bn = adj[b][n];
-            bn.length += border.length;
-            bn.step += border.step;
+    // Merges every component under minRegion pixels, or thin, into the adjacent one of the most
+    // similar mean colour (ties: the longest shared border), smallest first. Returns the merges.
+    long mergeSmallAndThin(long minRegion) {
+        auto needsMerge = [&](int c) { return size_[c] < minRegion || thin_[c]; };
+        using Item = std::pair<long, int>;  // size, component: the smallest first
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+        for (int c = 0; c < C_; ++c)
+            if (needsMerge(c)) queue.push({size_[c], c});
+        long merged = 0;
+        while (!queue.empty()) {
+            const auto [sz, c] = queue.top();
+            queue.pop();
+            if (parent_[c] != c || size_[c] != sz || !needsMerge(c) || adj_[c].empty()) continue;
+            const int r = unite(c, mostSimilarNeighbour(c));
+            ++merged;
+            if (needsMerge(r)) queue.push({size_[r], r});
         }
-        adj[b].erase(a);
-        std::unordered_map<int, Border>().swap(adj[a]);
-        parent[a] = b;
-        size[b] += size[a];
-        for (int k = 0; k < 3; ++k) sum[b * 3 + k] += sum[a * 3 + k];
-        thin[b] = thin[a] && thin[b];
-        return b;
-    };
-    auto needsMerge = [&](int c) { return size[c] < mp.minRegion || thin[c]; };
-
-    using Item = std::pair<long, int>;  // size, component: the smallest first
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (int c = 0; c < C; ++c)
-        if (needsMerge(c)) queue.push({size[c], c});
-    while (!queue.empty()) {
-        const auto [sz, c] = queue.top();
-        queue.pop();
-        if (parent[c] != c || size[c] != sz || !needsMerge(c) || adj[c].empty()) continue;
-        double m[3];
-        for (int k = 0; k < 3; ++k) m[k] = sum[c * 3 + k] / size[c];
-        int best = -1;
-        double bestD = 0;
-        long bestLen = 0;
-        for (const auto& [n, border] : adj[c]) {
-            double d = 0;
-            for (int k = 0; k < 3; ++k) {
-                const double e = sum[n * 3 + k] / size[n] - m[k];
-                d += e * e;
-            }
-            if (best < 0 || d < bestD ||
-                (d == bestD && (border.length > bestLen ||
-                                (border.length == bestLen && n < best)))) {
-                best = n;
-                bestD = d;
-                bestLen = border.length;
-            }
-        }
-        const int r = unite(c, best);
-        ++res.merged;
-        if (needsMerge(r)) queue.push({size[r], r});
+        return merged;
     }
 
-    // Weak borders, weakest first.
-    if (mp.weakEdge > 0) {
+    // Merges adjacent regions whose shared border is weak (mean colour step across it under
+    // weakEdge), weakest first. Returns the merges.
+    long mergeWeakBorders(double weakEdge) {
+        if (weakEdge <= 0) return 0;
         struct Pair {
             double step;
             int a, b;
@@ -535,38 +453,172 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
         };
         std::priority_queue<Pair, std::vector<Pair>, std::greater<Pair>> pairs;
         auto pushPairs = [&](int a, bool all) {
-            for (const auto& [n, border] : adj[a])
+            for (const auto& [n, border] : adj_[a])
                 if (all || a < n)
                     pairs.push({border.step / border.length, std::min(a, n), std::max(a, n),
                                 border.length});
         };
-        for (int c = 0; c < C; ++c)
-            if (parent[c] == c) pushPairs(c, false);
-        while (!pairs.empty() && pairs.top().step < mp.weakEdge) {
+        for (int c = 0; c < C_; ++c)
+            if (parent_[c] == c) pushPairs(c, false);
+        long merged = 0;
+        while (!pairs.empty() && pairs.top().step < weakEdge) {
             const Pair e = pairs.top();
             pairs.pop();
-            if (parent[e.a] != e.a || parent[e.b] != e.b) continue;
-            const auto it = adj[e.a].find(e.b);
-            if (it == adj[e.a].end() || it->second.length != e.length) continue;  // stale
+            if (parent_[e.a] != e.a || parent_[e.b] != e.b) continue;
+            const auto it = adj_[e.a].find(e.b);
+            if (it == adj_[e.a].end() || it->second.length != e.length) continue;  // stale
             pushPairs(unite(e.a, e.b), true);
-            ++res.weakMerged;
+            ++merged;
+        }
+        return merged;
+    }
+
+    // Writes dense labels, largest region first (ties: the one met first in scan order);
+    // returns their count.
+    int relabel(std::vector<int>& labels) {
+        std::vector<int> roots, firstComp(C_, std::numeric_limits<int>::max());
+        for (int c = 0; c < C_; ++c) {
+            const int r = find(c);
+            if (r == c) roots.push_back(c);
+            firstComp[r] = std::min(firstComp[r], c);
+        }
+        std::sort(roots.begin(), roots.end(), [&](int a, int b) {
+            return size_[a] != size_[b] ? size_[a] > size_[b] : firstComp[a] < firstComp[b];
+        });
+        std::vector<int> dense(C_, -1);
+        for (size_t i = 0; i < roots.size(); ++i) dense[roots[i]] = static_cast<int>(i);
+        for (size_t p = 0; p < labels.size(); ++p) labels[p] = dense[find(cc_.of[p])];
+        return static_cast<int>(roots.size());
+    }
+
+private:
+    // A shared border: pixel pairs, and the sum of the colour steps across them.
+    struct Border {
+        long length = 0;
+        double step = 0;
+    };
+
+    // The colour step between pixels p and q (RGB distance).
+    double colorStep(size_t p, size_t q) const {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double e = static_cast<double>(colour_[p][k]) - colour_[q][k];
+            d += e * e;
+        }
+        return std::sqrt(d);
+    }
+
+    void link(int a, int b, double step) {
+        Border& ab = adj_[a][b];
+        ++ab.length;
+        ab.step += step;
+        Border& ba = adj_[b][a];
+        ++ba.length;
+        ba.step += step;
+    }
+
+    // The shared borders, each step measured between the pixels one further out on either
+    // side (blurred edges are 2–3 pixels wide), and interior_ (0 on pixels with a foreign
+    // 4-neighbour).
+    void linkBorders() {
+        interior_ = cv::Mat(H_, W_, CV_8U, cv::Scalar(255));
+        for (int y = 0; y < H_; ++y) {
+            auto* in = interior_.ptr<uint8_t>(y);
+            for (int x = 0; x < W_; ++x) {
+                const size_t p = static_cast<size_t>(y) * W_ + x;
+                if (x + 1 < W_ && cc_.of[p] != cc_.of[p + 1]) {
+                    link(cc_.of[p], cc_.of[p + 1],
+                         colorStep(p - (x > 0 ? 1 : 0), p + 1 + (x + 2 < W_ ? 1 : 0)));
+                    in[x] = in[x + 1] = 0;
+                }
+                if (y + 1 < H_ && cc_.of[p] != cc_.of[p + W_]) {
+                    link(cc_.of[p], cc_.of[p + W_],
+                         colorStep(p - (y > 0 ? W_ : 0), p + W_ + (y + 2 < H_ ? W_ : 0)));
+                    in[x] = 0;
+                    interior_.ptr<uint8_t>(y + 1)[x] = 0;
+                }
+            }
         }
     }
 
-    // Dense labels, largest region first (ties: the one met first in scan order).
-    std::vector<int> roots, firstComp(C, std::numeric_limits<int>::max());
-    for (int c = 0; c < C; ++c) {
-        const int r = find(c);
-        if (r == c) roots.push_back(c);
-        firstComp[r] = std::min(firstComp[r], c);
+    int find(int c) {
+        while (parent_[c] != c) c = parent_[c] = parent_[parent_[c]];
+        return c;
     }
-    std::sort(roots.begin(), roots.end(), [&](int a, int b) {
-        return size[a] != size[b] ? size[a] > size[b] : firstComp[a] < firstComp[b];
-    });
-    std::vector<int> dense(C, -1);
-    for (size_t i = 0; i < roots.size(); ++i) dense[roots[i]] = static_cast<int>(i);
-    for (size_t p = 0; p < N; ++p) labels[p] = dense[find(cc.of[p])];
-    res.count = static_cast<int>(roots.size());
+
+    // The neighbour of c with the closest mean colour (ties: the longest shared border, then
+    // the lowest index).
+    int mostSimilarNeighbour(int c) const {
+        double m[3];
+        for (int k = 0; k < 3; ++k) m[k] = sum_[c * 3 + k] / size_[c];
+        int best = -1;
+        double bestD = 0;
+        long bestLen = 0;
+        for (const auto& [n, border] : adj_[c]) {
+            double d = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double e = sum_[n * 3 + k] / size_[n] - m[k];
+                d += e * e;
+            }
+            if (best < 0 || d < bestD ||
+                (d == bestD && (border.length > bestLen ||
+                                (border.length == bestLen && n < best)))) {
+                best = n;
+                bestD = d;
+                bestLen = border.length;
+            }
+        }
+        return best;
+    }
+
+    // Merges a and b (both roots, adjacent); the one with the larger adjacency map survives.
+    int unite(int a, int b) {
+        if (adj_[a].size() > adj_[b].size()) std::swap(a, b);  // a goes into b
+        for (const auto& [n, border] : adj_[a]) {
+            if (n == b) continue;
+            auto& an = adj_[n];
+            an.erase(a);
+            Border& nb = an[b];
+            nb.length += border.length;
+            nb.step += border.step;
+            Border& bn = adj_[b][n];
+            bn.length += border.length;
+            bn.step += border.step;
+        }
+        adj_[b].erase(a);
+        std::unordered_map<int, Border>().swap(adj_[a]);
+        parent_[a] = b;
+        size_[b] += size_[a];
+        for (int k = 0; k < 3; ++k) sum_[b * 3 + k] += sum_[a * 3 + k];
+        thin_[b] = thin_[a] && thin_[b];
+        return b;
+    }
+
+    const int W_, H_;
+    const Components cc_;
+    const int C_;
+    const cv::Vec3b* colour_;  // the image, continuous
+    std::vector<long> size_;
+    std::vector<double> sum_;  // per component: the sum of its colours
+    std::vector<std::unordered_map<int, Border>> adj_;
+    cv::Mat interior_;
+    std::vector<uint8_t> thin_;
+    std::vector<int> parent_;
+};
+
+// Splits labels into 4-connected components and merges every component under minRegion pixels
+// or no wider than sliverWidth pixels into its most similar neighbour; then merges adjacent
+// regions across weak borders, weakest first. The union of two 4-adjacent 4-connected sets is
+// 4-connected, so every label ends as one 4-connected component. Relabels 0..count-1 by size,
+// largest first.
+MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp) {
+    RegionGraph graph(bgr, labels);
+    MergeResult res;
+    res.components = graph.components();
+    graph.markThin(mp.sliverWidth);
+    res.merged = graph.mergeSmallAndThin(mp.minRegion);
+    res.weakMerged = graph.mergeWeakBorders(mp.weakEdge);
+    res.count = graph.relabel(labels);
     return res;
 }
 
