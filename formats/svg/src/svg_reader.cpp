@@ -440,13 +440,15 @@ double largestCoordinate(const SvgPatchGrid& g) {
 
 }  // namespace
 
-Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
+namespace {
+
+// Checks on the raw text, before tinyxml2 allocates a node per element.
+void checkRawSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
     const uint64_t maxBytes = std::min<uint64_t>(limits.maxFileBytes, SvgReadLimits::maxFileBytes);
     if (bytes.size() > maxBytes)
         throw Error("SVG of " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                         std::to_string(maxBytes),
                     fileName);
-    // Counted on the raw text, before tinyxml2 allocates a node per element.
     const uint64_t tags = static_cast<uint64_t>(std::count(bytes.begin(), bytes.end(), '<'));
     if (tags > SvgReadLimits::maxElements)
         throw Error("SVG has " + std::to_string(tags) + " tags, over the limit of " +
@@ -456,8 +458,9 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     // that declares them means something we would read differently from other parsers.
     if (bytes.find("<!ENTITY") != std::string::npos)
         throw Error("SVG declares XML entities (<!ENTITY>), which are not supported", fileName);
+}
 
-    tinyxml2::XMLDocument xml(true, tinyxml2::PRESERVE_WHITESPACE);
+void parseXml(tinyxml2::XMLDocument& xml, const std::string& bytes, const std::string& fileName) {
     const tinyxml2::XMLError err = xml.Parse(bytes.data(), bytes.size());
     if (err == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED)
         throw Error("XML elements nested deeper than " +
@@ -466,163 +469,216 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     if (err != tinyxml2::XML_SUCCESS)
         throw Error(std::string("not well-formed XML (") + xml.ErrorName() + ")", fileName,
                     "line " + std::to_string(xml.ErrorLineNum()));
-    const XMLElement* root = xml.RootElement();
-    if (!root) throw Error("no root element", fileName);
-    Reader rd(fileName);
-    if (!isNamed(root, "svg")) rd.fail("root element is not <svg>", root);
+}
 
-    // Every element once, iteratively (no recursion on file-controlled depth).
+// Every element once, iteratively (no recursion on file-controlled depth): ids, the elements
+// painted with a url(), the meshgradients (whose rows are read through the gradient).
+struct ElementIndex {
     std::unordered_map<std::string, const XMLElement*> byId;
     std::vector<const XMLElement*> painted, meshes;
-    {
-        std::vector<const XMLElement*> stack{root};
-        while (!stack.empty()) {
-            const XMLElement* el = stack.back();
-            stack.pop_back();
-            if (const char* id = el->Attribute("id")) byId.emplace(id, el);
-            if (isNamed(el, "meshgradient")) {
-                meshes.push_back(el);
-                continue;  // its rows are read through the gradient
-            }
-            if (!Reader::urlTarget(Reader::property(el, "fill")).empty()) painted.push_back(el);
-            std::vector<const XMLElement*> children;
-            for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
-                children.push_back(c);
-            for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(*it);
-        }
-    }
+};
 
-    Document doc;
-    // Canvas: the viewBox (our files map it 1:1 to pixels), else width/height.
+ElementIndex indexElements(const XMLElement* root) {
+    ElementIndex index;
+    std::vector<const XMLElement*> stack{root};
+    while (!stack.empty()) {
+        const XMLElement* el = stack.back();
+        stack.pop_back();
+        if (const char* id = el->Attribute("id")) index.byId.emplace(id, el);
+        if (isNamed(el, "meshgradient")) {
+            index.meshes.push_back(el);
+            continue;
+        }
+        if (!Reader::urlTarget(Reader::property(el, "fill")).empty()) index.painted.push_back(el);
+        std::vector<const XMLElement*> children;
+        for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
+            children.push_back(c);
+        for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(*it);
+    }
+    return index;
+}
+
+// Canvas: the viewBox (our files map it 1:1 to pixels), else width/height (-1 when absent).
+struct Canvas {
     Affine viewBoxShift;
     double width = -1, height = -1;
+};
+
+Canvas readCanvas(const XMLElement* root, Reader& rd) {
+    Canvas c;
     if (const char* vb = root->Attribute("viewBox")) {
         const char* p = vb;
         double v[4];
         for (double& x : v)
             if (!rd.number(p, x, root, "viewBox")) rd.fail("viewBox needs four numbers", root);
         if (!(v[2] > 0 && v[3] > 0)) rd.fail("viewBox has no area", root);
-        viewBoxShift.e = -v[0];
-        viewBoxShift.f = -v[1];
-        width = v[2];
-        height = v[3];
+        c.viewBoxShift.e = -v[0];
+        c.viewBoxShift.f = -v[1];
+        c.width = v[2];
+        c.height = v[3];
     } else {
-        width = rd.numberAttribute(root, "width", -1, true);
-        height = rd.numberAttribute(root, "height", -1, true);
+        c.width = rd.numberAttribute(root, "width", -1, true);
+        c.height = rd.numberAttribute(root, "height", -1, true);
     }
+    return c;
+}
 
-    struct Use {
-        const XMLElement* paint;  // the gradient named by the fill (may href the array)
-        const XMLElement* shape;  // nullptr when no shape paints it
-    };
-    std::vector<Use> uses;
-    for (const XMLElement* el : painted) {
+struct MeshUse {
+    const XMLElement* paint;  // the gradient named by the fill (may href the array)
+    const XMLElement* shape;  // nullptr when no shape paints it
+};
+
+// A mesh per shape painted with a meshgradient; when no shape is, a mesh per meshgradient.
+std::vector<MeshUse> meshUses(const ElementIndex& index, const ReadLimits& limits,
+                              const std::string& fileName) {
+    std::vector<MeshUse> uses;
+    for (const XMLElement* el : index.painted) {
         const std::string id = Reader::urlTarget(Reader::property(el, "fill"));
-        auto it = byId.find(id);
-        if (it == byId.end() || !isNamed(it->second, "meshgradient")) continue;
+        auto it = index.byId.find(id);
+        if (it == index.byId.end() || !isNamed(it->second, "meshgradient")) continue;
         uses.push_back({it->second, el});
     }
     if (uses.empty())
-        for (const XMLElement* m : meshes) uses.push_back({m, nullptr});
+        for (const XMLElement* m : index.meshes) uses.push_back({m, nullptr});
     if (uses.empty()) throw Error("SVG has no meshgradient", fileName);
     if (uses.size() > limits.maxMeshes)
         throw Error("SVG has " + std::to_string(uses.size()) + " meshes, over the limit", fileName);
+    return uses;
+}
 
-    uint64_t patches = 0;  // of the meshes so far: each use of a gradient is a copy of it
-    for (const Use& use : uses) {
-        // Attributes come from the first gradient of the href chain that has them; the rows
-        // from the first that has rows.
-        std::vector<const XMLElement*> chain{use.paint};
-        std::unordered_set<const XMLElement*> seen{use.paint};
-        while (true) {
-            const std::string target = Reader::hrefTarget(chain.back());
-            if (target.empty()) break;
-            auto it = byId.find(target);
-            if (it == byId.end()) rd.fail("href to a missing element '#" + target + "'", chain.back());
-            if (!isNamed(it->second, "meshgradient"))
-                rd.fail("href to <" + std::string(it->second->Name()) + ">, not a meshgradient",
-                        chain.back());
-            if (!seen.insert(it->second).second) rd.fail("href chain has a cycle", chain.back());
-            if (static_cast<int>(chain.size()) >= SvgReadLimits::maxHrefChain)
-                rd.fail("href chain is too long", use.paint);
-            chain.push_back(it->second);
-        }
-        auto attr = [&](const char* name) -> const XMLElement* {
-            for (const XMLElement* g : chain)
-                if (g->Attribute(name)) return g;
-            return nullptr;
-        };
-        const XMLElement* array = nullptr;
-        for (const XMLElement* g : chain) {
-            for (const XMLElement* c = g->FirstChildElement(); c && !array; c = c->NextSiblingElement())
-                if (isNamed(c, "meshrow")) array = g;
-            if (array) break;
-        }
-        if (!array) rd.fail("meshgradient has no meshrow (nor one it links to)", use.paint);
-        patches += patchesOf(array);
-        if (patches > limits.maxPatches)
-            rd.fail(tooManyPatchesMessage(patches, limits.maxPatches) + ", " +
-                        std::to_string(uses.size()) + " shapes painting meshes",
-                    use.shape ? use.shape : use.paint);
-        const XMLElement* unitsEl = attr("gradientUnits");
-        if (!unitsEl || std::strcmp(unitsEl->Attribute("gradientUnits"), "userSpaceOnUse") != 0)
-            rd.fail("meshgradient must have gradientUnits=\"userSpaceOnUse\" "
-                    "(objectBoundingBox is not supported)",
-                    use.paint);
-        Vec2 origin;
-        if (const XMLElement* e = attr("x")) origin.x = rd.numberAttribute(e, "x", 0, true);
-        if (const XMLElement* e = attr("y")) origin.y = rd.numberAttribute(e, "y", 0, true);
-        bool bicubic = false;
-        if (const XMLElement* e = attr("type")) {
-            const std::string t = e->Attribute("type");
-            if (t == "bicubic")
-                bicubic = true;
-            else if (t != "coons" && t != "bilinear")
-                rd.fail("unsupported meshgradient type '" + t.substr(0, 40) + "'", e);
-        }
-        SvgPatchGrid g = rd.grid(array, origin, limits);
-        g.bicubic = bicubic;
-        Affine t;
-        if (const XMLElement* e = attr("gradientTransform")) t = rd.transformAttribute(e, "gradientTransform");
-        // The shape's own transform and its ancestors' (user space of the root).
-        if (use.shape) {
-            std::vector<const XMLElement*> up;
-            for (const tinyxml2::XMLNode* n = use.shape; n && n->ToElement(); n = n->Parent())
-                up.push_back(n->ToElement());
-            Affine ctm;
-            for (auto it = up.rbegin(); it != up.rend(); ++it)
-                if (*it != root) ctm = compose(ctm, rd.transformAttribute(*it, "transform"));
-            t = compose(ctm, t);
-        }
-        t = compose(viewBoxShift, t);
-        transformGrid(g, t);
-        // Each number is within maxCoordinate, but nested transforms multiply them.
-        if (const double reach = largestCoordinate(g); !(reach <= SvgReadLimits::maxCoordinate)) {
-            char text[32];
-            std::snprintf(text, sizeof text, "%.3g", reach);
-            rd.fail(std::string("mesh coordinates reach ") + text +
-                        " after its transforms, over the limit of 1e7",
-                    use.shape ? use.shape : use.paint);
-        }
-        doc.meshes.push_back(meshFromPatchGrid(g, fileName, rd.describe(use.paint)));
+// The gradient and those it links to by href, in order (checked: no cycle, bounded length).
+std::vector<const XMLElement*> hrefChain(const XMLElement* paint, const ElementIndex& index,
+                                         Reader& rd) {
+    std::vector<const XMLElement*> chain{paint};
+    std::unordered_set<const XMLElement*> seen{paint};
+    while (true) {
+        const std::string target = Reader::hrefTarget(chain.back());
+        if (target.empty()) break;
+        auto it = index.byId.find(target);
+        if (it == index.byId.end()) rd.fail("href to a missing element '#" + target + "'", chain.back());
+        if (!isNamed(it->second, "meshgradient"))
+            rd.fail("href to <" + std::string(it->second->Name()) + ">, not a meshgradient",
+                    chain.back());
+        if (!seen.insert(it->second).second) rd.fail("href chain has a cycle", chain.back());
+        if (static_cast<int>(chain.size()) >= SvgReadLimits::maxHrefChain)
+            rd.fail("href chain is too long", paint);
+        chain.push_back(it->second);
     }
+    return chain;
+}
 
-    if (width <= 0 || height <= 0) {
-        // No usable canvas size: the meshes' bounds.
+// The transform from the gradient's space to the canvas: its gradientTransform, the shape's
+// own transform and its ancestors' (user space of the root), and the viewBox's shift.
+Affine gradientToCanvas(const MeshUse& use, const XMLElement* transformEl, const XMLElement* root,
+                        const Affine& viewBoxShift, Reader& rd) {
+    Affine t;
+    if (transformEl) t = rd.transformAttribute(transformEl, "gradientTransform");
+    if (use.shape) {
+        std::vector<const XMLElement*> up;
+        for (const tinyxml2::XMLNode* n = use.shape; n && n->ToElement(); n = n->Parent())
+            up.push_back(n->ToElement());
+        Affine ctm;
+        for (auto it = up.rbegin(); it != up.rend(); ++it)
+            if (*it != root) ctm = compose(ctm, rd.transformAttribute(*it, "transform"));
+        t = compose(ctm, t);
+    }
+    return compose(viewBoxShift, t);
+}
+
+// One use's mesh. Attributes come from the first gradient of the href chain that has them; the
+// rows from the first that has rows. `patches` counts the document's patches so far (each use
+// of a gradient is a copy of it).
+GradientMesh readMeshUse(const MeshUse& use, const ElementIndex& index, const XMLElement* root,
+                         const Canvas& canvas, const ReadLimits& limits, size_t useCount,
+                         uint64_t& patches, Reader& rd, const std::string& fileName) {
+    const std::vector<const XMLElement*> chain = hrefChain(use.paint, index, rd);
+    auto attr = [&](const char* name) -> const XMLElement* {
+        for (const XMLElement* g : chain)
+            if (g->Attribute(name)) return g;
+        return nullptr;
+    };
+    const XMLElement* array = nullptr;
+    for (const XMLElement* g : chain) {
+        for (const XMLElement* c = g->FirstChildElement(); c && !array; c = c->NextSiblingElement())
+            if (isNamed(c, "meshrow")) array = g;
+        if (array) break;
+    }
+    if (!array) rd.fail("meshgradient has no meshrow (nor one it links to)", use.paint);
+    patches += patchesOf(array);
+    if (patches > limits.maxPatches)
+        rd.fail(tooManyPatchesMessage(patches, limits.maxPatches) + ", " + std::to_string(useCount) +
+                    " shapes painting meshes",
+                use.shape ? use.shape : use.paint);
+    const XMLElement* unitsEl = attr("gradientUnits");
+    if (!unitsEl || std::strcmp(unitsEl->Attribute("gradientUnits"), "userSpaceOnUse") != 0)
+        rd.fail("meshgradient must have gradientUnits=\"userSpaceOnUse\" "
+                "(objectBoundingBox is not supported)",
+                use.paint);
+    Vec2 origin;
+    if (const XMLElement* e = attr("x")) origin.x = rd.numberAttribute(e, "x", 0, true);
+    if (const XMLElement* e = attr("y")) origin.y = rd.numberAttribute(e, "y", 0, true);
+    bool bicubic = false;
+    if (const XMLElement* e = attr("type")) {
+        const std::string t = e->Attribute("type");
+        if (t == "bicubic")
+            bicubic = true;
+        else if (t != "coons" && t != "bilinear")
+            rd.fail("unsupported meshgradient type '" + t.substr(0, 40) + "'", e);
+    }
+    SvgPatchGrid g = rd.grid(array, origin, limits);
+    g.bicubic = bicubic;
+    transformGrid(g, gradientToCanvas(use, attr("gradientTransform"), root, canvas.viewBoxShift, rd));
+    // Each number is within maxCoordinate, but nested transforms multiply them.
+    if (const double reach = largestCoordinate(g); !(reach <= SvgReadLimits::maxCoordinate)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3g", reach);
+        rd.fail(std::string("mesh coordinates reach ") + text +
+                    " after its transforms, over the limit of 1e7",
+                use.shape ? use.shape : use.paint);
+    }
+    return meshFromPatchGrid(g, fileName, rd.describe(use.paint));
+}
+
+// The document's size: the canvas's, else (no usable size) the meshes' bounds.
+void setDocumentSize(Document& doc, Canvas canvas, const ReadLimits& limits,
+                     const std::string& fileName) {
+    if (canvas.width <= 0 || canvas.height <= 0) {
         double mx = 1, my = 1;
         for (const GradientMesh& m : doc.meshes)
             for (const Node& n : m.nodes) {
                 mx = std::max(mx, n.pos.x);
                 my = std::max(my, n.pos.y);
             }
-        width = mx;
-        height = my;
+        canvas.width = mx;
+        canvas.height = my;
     }
-    if (width > static_cast<double>(limits.maxCanvasSide) ||
-        height > static_cast<double>(limits.maxCanvasSide))
+    if (canvas.width > static_cast<double>(limits.maxCanvasSide) ||
+        canvas.height > static_cast<double>(limits.maxCanvasSide))
         throw Error("canvas is larger than the reader's limit", fileName);
-    doc.width = static_cast<int>(std::ceil(width - 1e-9));
-    doc.height = static_cast<int>(std::ceil(height - 1e-9));
+    doc.width = static_cast<int>(std::ceil(canvas.width - 1e-9));
+    doc.height = static_cast<int>(std::ceil(canvas.height - 1e-9));
+}
+
+}  // namespace
+
+Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std::string& fileName) {
+    checkRawSvg(bytes, limits, fileName);
+    tinyxml2::XMLDocument xml(true, tinyxml2::PRESERVE_WHITESPACE);
+    parseXml(xml, bytes, fileName);
+    const XMLElement* root = xml.RootElement();
+    if (!root) throw Error("no root element", fileName);
+    Reader rd(fileName);
+    if (!isNamed(root, "svg")) rd.fail("root element is not <svg>", root);
+
+    const ElementIndex index = indexElements(root);
+    const Canvas canvas = readCanvas(root, rd);
+    const std::vector<MeshUse> uses = meshUses(index, limits, fileName);
+    Document doc;
+    uint64_t patches = 0;
+    for (const MeshUse& use : uses)
+        doc.meshes.push_back(
+            readMeshUse(use, index, root, canvas, limits, uses.size(), patches, rd, fileName));
+    setDocumentSize(doc, canvas, limits, fileName);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("meshes read are not valid: " + problem, fileName);
     return doc;
