@@ -251,44 +251,46 @@ std::string requireOutput(const Args& a) {
     return it->second;
 }
 
-int cmdConvert(const Args& a, bool renderOnly) {
-    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
-    const std::string in = a.positional[0];
-    const std::string out = requireOutput(a);
-    gm::WriteOptions wo;
+// --compact and --compact-level L|auto.
+void parseCompact(const Args& a, gm::WriteOptions& wo) {
     wo.compact = a.flags.count("--compact") > 0;
-    if (auto it = a.values.find("--compact-level"); it != a.values.end()) {
-        wo.compact = true;
-        if (it->second == "auto") {
-            wo.compactLevel = gm::kCompactLevelAuto;
-        } else {
-            const double level = parseNumber("--compact-level", it->second, 0, gm::kGmbMaxCompactLevel);
-            if (level != std::floor(level))
-                throw UsageError("--compact-level expects a whole number or auto, got '" + it->second + "'");
-            wo.compactLevel = static_cast<int>(level);
-        }
+    auto it = a.values.find("--compact-level");
+    if (it == a.values.end()) return;
+    wo.compact = true;
+    if (it->second == "auto") {
+        wo.compactLevel = gm::kCompactLevelAuto;
+        return;
     }
+    const double level = parseNumber("--compact-level", it->second, 0, gm::kGmbMaxCompactLevel);
+    if (level != std::floor(level))
+        throw UsageError("--compact-level expects a whole number or auto, got '" + it->second + "'");
+    wo.compactLevel = static_cast<int>(level);
+}
+
+// The options every writer reads (--svg-*, --color-tolerance, --scale, ...).
+gm::WriteOptions parseWriteOptions(const Args& a) {
+    gm::WriteOptions wo;
+    parseCompact(a, wo);
     wo.legacy = a.flags.count("--legacy") > 0;
     wo.textShading = a.flags.count("--text-shading") > 0;
-    if (auto it = a.values.find("--svg-colors"); it != a.values.end()) {
-        if (it->second != "exact" && it->second != "bicubic" && it->second != "editable")
-            throw UsageError("--svg-colors expects bicubic or exact, got '" + it->second + "'");
-        wo.svgColors = it->second;
-    }
-    if (auto it = a.values.find("--svg-script"); it != a.values.end()) {
-        if (it->second != "embed" && it->second != "none")
-            throw UsageError("--svg-script expects embed or none, got '" + it->second + "'");
-        wo.svgScript = it->second;
-    }
+    auto choice = [&](const char* option, std::initializer_list<const char*> allowed,
+                      const char* expects, std::string& into) {
+        auto it = a.values.find(option);
+        if (it == a.values.end()) return;
+        for (const char* c : allowed)
+            if (it->second == c) {
+                into = it->second;
+                return;
+            }
+        throw UsageError(std::string(option) + " expects " + expects + ", got '" + it->second + "'");
+    };
+    choice("--svg-colors", {"exact", "bicubic", "editable"}, "bicubic or exact", wo.svgColors);
+    choice("--svg-script", {"embed", "none"}, "embed or none", wo.svgScript);
     if (auto it = a.values.find("--color-tolerance"); it != a.values.end())
         wo.colorTolerance = parseNumber("--color-tolerance", it->second, 0.01, 64) / 255.0;
     if (auto it = a.values.find("--min-piece"); it != a.values.end())
         wo.minPiece = parseNumber("--min-piece", it->second, 0, 64);
-    if (auto it = a.values.find("--svg-fallback"); it != a.values.end()) {
-        if (!gm::isSvgFallbackKind(it->second))
-            throw UsageError("--svg-fallback expects png, webp or none, got '" + it->second + "'");
-        wo.svgFallback = it->second;
-    }
+    choice("--svg-fallback", {"png", "webp", "none"}, "png, webp or none", wo.svgFallback);
     if (auto it = a.values.find("--scale"); it != a.values.end())
         wo.rasterScale = parseNumber("--scale", it->second, 0.01, 64);
     if (auto it = a.values.find("--background"); it != a.values.end()) wo.background = parseColor(it->second);
@@ -296,16 +298,64 @@ int cmdConvert(const Args& a, bool renderOnly) {
         wo.meshLines = parseColor(it->second);
         if (wo.meshLines[3] <= 0) throw UsageError("--mesh-lines needs a visible colour, got '" + it->second + "'");
     }
-
     if (auto it = a.values.find("--max-output-bytes"); it != a.values.end())
         wo.maxOutputBytes = static_cast<uint64_t>(parseNumber("--max-output-bytes", it->second, 1, 1e15));
+    return wo;
+}
+
+// convert IMAGE: the pipeline (image_command.h), with the raster-only options.
+void convertRasterInput(const Args& a, const std::string& in, const std::string& out,
+                        const gm::MeshFormat& writer, const gm::WriteOptions& wo) {
+    if (auto it = a.values.find("--mask"); it != a.values.end()) {
+        if (it->second.empty()) throw UsageError("--mask needs a file name");
+        requireInputFile(it->second);
+        requireDistinct(it->second, out, "mask");
+    }
+    std::map<std::string, std::string> values = a.values;
+    for (const std::string& f : gm::kImageFlagOptions)
+        if (a.flags.count(f)) values[f] = "1";
+    try {
+        gm::convertImageCommand(in, out, writer, wo, values);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+}
+
+// The raster-only options given for a mesh file are usage errors.
+void refuseImageOptions(const Args& a, const gm::WriteOptions& wo) {
+    for (const std::string& o : gm::kImageValuedOptions)
+        if (a.values.count(o)) throw UsageError(o + " applies to raster inputs only");
+    if (wo.compactLevel == gm::kCompactLevelAuto)
+        throw UsageError("--compact-level auto applies to raster inputs only (it measures each "
+                         "level's file against the image)");
+    for (const std::string& o : gm::kImageFlagOptions)
+        if (a.flags.count(o)) throw UsageError(o + " applies to raster inputs only");
+}
+
+// convert/render of a mesh file: read within the limits, write through `writer`.
+void convertMeshFile(const std::string& in, const std::string& out, const gm::MeshFormat& writer,
+                     const gm::WriteOptions& wo, const gm::CommandLimits& limits) {
+    gm::ReadOptions ro;
+    ro.limits.maxPatches = limits.maxDocumentPatches;
+    const gm::Document doc = readDocument(in, ro);
+    if (writer.name() == "raster")
+        gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
+    if (writer.name() == "svg" && wo.svgFallback != "none")  // the fallback is a render
+        gm::requireRenderWithinLimits(doc.width, doc.height, 1.0, limits, out);
+    writer.write(gm::documentForWriter(doc, writer, wo, out), out, wo);
+}
+
+int cmdConvert(const Args& a, bool renderOnly) {
+    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
+    const std::string in = a.positional[0];
+    const std::string out = requireOutput(a);
+    const gm::WriteOptions wo = parseWriteOptions(a);
     gm::CommandLimits limits;
     try {
         limits = gm::commandLimits(a.values);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
-
     const gm::MeshFormat* writer = writerFor(out);
     if (renderOnly && writer->name() != "raster")
         throw UsageError("render writes raster images (.png .jpg .tif .exr); use convert for '" +
@@ -315,37 +365,12 @@ int cmdConvert(const Args& a, bool renderOnly) {
     if (!renderOnly) {
         const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
         if (reader && reader->name() == "raster") {
-            if (auto it = a.values.find("--mask"); it != a.values.end()) {
-                if (it->second.empty()) throw UsageError("--mask needs a file name");
-                requireInputFile(it->second);
-                requireDistinct(it->second, out, "mask");
-            }
-            std::map<std::string, std::string> values = a.values;
-            for (const std::string& f : gm::kImageFlagOptions)
-                if (a.flags.count(f)) values[f] = "1";
-            try {
-                gm::convertImageCommand(in, out, *writer, wo, values);
-            } catch (const std::invalid_argument& e) {
-                throw UsageError(e.what());
-            }
+            convertRasterInput(a, in, out, *writer, wo);
             return 0;
         }
-        for (const std::string& o : gm::kImageValuedOptions)
-            if (a.values.count(o)) throw UsageError(o + " applies to raster inputs only");
-        if (wo.compactLevel == gm::kCompactLevelAuto)
-            throw UsageError("--compact-level auto applies to raster inputs only (it measures each "
-                             "level's file against the image)");
-        for (const std::string& o : gm::kImageFlagOptions)
-            if (a.flags.count(o)) throw UsageError(o + " applies to raster inputs only");
+        refuseImageOptions(a, wo);
     }
-    gm::ReadOptions ro;
-    ro.limits.maxPatches = limits.maxDocumentPatches;
-    const gm::Document doc = readDocument(in, ro);
-    if (writer->name() == "raster")
-        gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
-    if (writer->name() == "svg" && wo.svgFallback != "none")  // the fallback is a render
-        gm::requireRenderWithinLimits(doc.width, doc.height, 1.0, limits, out);
-    writer->write(gm::documentForWriter(doc, *writer, wo, out), out, wo);
+    convertMeshFile(in, out, *writer, wo, limits);
     return 0;
 }
 
