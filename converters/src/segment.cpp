@@ -55,6 +55,11 @@ struct MergeParams {
     long minRegion = 1;
     int sliverWidth = 0;
     double weakEdge = 0;
+    // Components of labels from `firstKept` on (liftDistinctPieces) whose mean colour lies
+    // further than `keepContrast` (RGB distance, 0–255 units) from every neighbour's are not
+    // merged for their size (0: all are).
+    int firstKept = std::numeric_limits<int>::max();
+    double keepContrast = 0;
 };
 MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp);
 
@@ -67,24 +72,80 @@ struct FhRun {
     int count = 0, rawCount = 0;
 };
 
-FhRun runFh(const cv::Mat& work, double k, const SegmentOptions& o, int minSize) {
-    FhRun run;
+// OpenCV's FH labels of the working image for threshold k and minimum piece size minSize.
+std::vector<int> fhLabels(const cv::Mat& work, double k, double sigma, int minSize) {
     cv::Mat fh;
-    auto gs = cv::ximgproc::segmentation::createGraphSegmentation(o.sigma, static_cast<float>(k),
+    auto gs = cv::ximgproc::segmentation::createGraphSegmentation(sigma, static_cast<float>(k),
                                                                    minSize);
     gs->processImage(work, fh);
-    double maxLabel = 0;
-    cv::minMaxLoc(fh, nullptr, &maxLabel);
-    run.rawCount = static_cast<int>(maxLabel) + 1;
-    run.labels.assign(fh.begin<int>(), fh.end<int>());
-    run.count = mergeRegions(work, run.labels, {minSize, o.sliverWidth, o.weakEdge}).count;
+    return std::vector<int>(fh.begin<int>(), fh.end<int>());
+}
+
+// FH's minimum-size pass joins a small piece to a neighbour across its weakest edge however
+// strong that edge is: a small object ends inside its surroundings' region, whose mesh then
+// paints the object's colour smoothly across its own, well outside the object. The same k
+// with a smaller minimum size (`fine`) splits no less, so each of its pieces lies in one region
+// of `coarse`; a piece of at least minPiece pixels whose mean colour lies further than
+// `contrast` from the rest of its region's gets a label of its own. Returns the label count.
+int liftDistinctPieces(const cv::Mat& work, const std::vector<int>& fine,
+                       std::vector<int>& coarse, long minPiece, double contrast) {
+    const int fineCount = *std::max_element(fine.begin(), fine.end()) + 1;
+    const int coarseCount = *std::max_element(coarse.begin(), coarse.end()) + 1;
+    struct Stats {
+        long size = 0;
+        double sum[3] = {0, 0, 0};
+    };
+    std::vector<Stats> piece(static_cast<size_t>(fineCount)), region(static_cast<size_t>(coarseCount));
+    std::vector<int> regionOf(static_cast<size_t>(fineCount), -1);
+    const cv::Vec3b* colour = work.ptr<cv::Vec3b>(0);
+    for (size_t p = 0; p < fine.size(); ++p) {
+        for (Stats* st : {&piece[static_cast<size_t>(fine[p])], &region[static_cast<size_t>(coarse[p])]}) {
+            ++st->size;
+            for (int c = 0; c < 3; ++c) st->sum[c] += colour[p][c];
+        }
+        regionOf[static_cast<size_t>(fine[p])] = coarse[p];
+    }
+    std::vector<int> lifted(static_cast<size_t>(fineCount), -1);
+    int count = coarseCount;
+    for (int f = 0; f < fineCount; ++f) {
+        const Stats& a = piece[static_cast<size_t>(f)];
+        if (a.size < std::max(1L, minPiece)) continue;
+        const Stats& r = region[static_cast<size_t>(regionOf[static_cast<size_t>(f)])];
+        if (2 * a.size >= r.size) continue;
+        double d2 = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double e = a.sum[c] / a.size - (r.sum[c] - a.sum[c]) / (r.size - a.size);
+            d2 += e * e;
+        }
+        if (d2 > contrast * contrast) lifted[static_cast<size_t>(f)] = count++;
+    }
+    for (size_t p = 0; p < fine.size(); ++p)
+        if (lifted[static_cast<size_t>(fine[p])] >= 0) coarse[p] = lifted[static_cast<size_t>(fine[p])];
+    return count;
+}
+
+// FH with minimum size minSize, its distinct smaller pieces (of at least noiseSize) lifted out,
+// then cleaned: slivers and pieces under minSize merged by colour, the lifted ones kept.
+FhRun runFh(const cv::Mat& work, double k, const SegmentOptions& o, int minSize, int noiseSize) {
+    FhRun run;
+    run.labels = fhLabels(work, k, o.sigma, minSize);
+    run.rawCount = *std::max_element(run.labels.begin(), run.labels.end()) + 1;
+    MergeParams merge{minSize, o.sliverWidth, o.weakEdge};
+    if (o.distinctContrast > 0 && noiseSize < minSize) {
+        merge.firstKept = run.rawCount;
+        merge.keepContrast = o.distinctContrast;
+        run.rawCount = liftDistinctPieces(work, fhLabels(work, k, o.sigma, noiseSize), run.labels,
+                                          noiseSize, o.distinctContrast);
+    }
+    run.count = mergeRegions(work, run.labels, merge).count;
     return run;
 }
 
 // Uses the given k, the default k, or, for `segments`, searches k by bisection in log k
 // towards that many regions (the count falls with k, though not strictly; the run closest to
 // the target in ratio is kept, the larger k on ties).
-FhRun graphSegment(const cv::Mat& work, const SegmentOptions& o, int minSize, SegmentStats& st) {
+FhRun graphSegment(const cv::Mat& work, const SegmentOptions& o, int minSize, int noiseSize,
+                   SegmentStats& st) {
     if (work.total() < 4) {  // nothing to segment; OpenCV's FH wants edges
         FhRun run;
         run.labels.assign(work.total(), 0);
@@ -95,7 +156,7 @@ FhRun graphSegment(const cv::Mat& work, const SegmentOptions& o, int minSize, Se
     if (o.threshold > 0 || o.segments <= 0) {
         st.threshold = o.threshold > 0 ? o.threshold : o.defaultThreshold * kScale;
         st.fhTrials = 1;
-        return runFh(work, st.threshold, o, minSize);
+        return runFh(work, st.threshold, o, minSize, noiseSize);
     }
     const int target = o.segments;
     double lo = 20 * kScale, hi = 5000 * kScale;
@@ -103,7 +164,7 @@ FhRun graphSegment(const cv::Mat& work, const SegmentOptions& o, int minSize, Se
     FhRun best;
     for (int t = 0; t < std::max(1, o.maxTrials); ++t) {
         const double k = std::sqrt(lo * hi);
-        FhRun run = runFh(work, k, o, minSize);
+        FhRun run = runFh(work, k, o, minSize, noiseSize);
         ++st.fhTrials;
         const int n = run.count;
         const double score = std::abs(std::log(static_cast<double>(n) / target));
@@ -401,6 +462,14 @@ public:
 
     int components() const { return C_; }
 
+    // Per component: whether its label is at least `first`.
+    std::vector<uint8_t> componentsOfLabelsFrom(const std::vector<int>& labels, int first) const {
+        std::vector<uint8_t> out(static_cast<size_t>(C_), 0);
+        for (size_t p = 0; p < labels.size(); ++p)
+            if (labels[p] >= first) out[static_cast<size_t>(cc_.of[p])] = 1;
+        return out;
+    }
+
     // Marks components no wider than sliverWidth (each pixel within (sliverWidth-1)/2 steps of
     // another region).
     void markThin(int sliverWidth) {
@@ -421,8 +490,15 @@ public:
 
     // Merges every component under minRegion pixels, or thin, into the adjacent one of the most
     // similar mean colour (ties: the longest shared border), smallest first. Returns the merges.
-    long mergeSmallAndThin(long minRegion) {
-        auto needsMerge = [&](int c) { return size_[c] < minRegion || thin_[c]; };
+    long mergeSmallAndThin(long minRegion, const std::vector<uint8_t>& mayKeep,
+                           double keepContrast) {
+        auto distinct = [&](int c) {
+            return keepContrast > 0 && mayKeep[static_cast<size_t>(c)] &&
+                   colourDistance(c, mostSimilarNeighbour(c)) > keepContrast;
+        };
+        auto needsMerge = [&](int c) {
+            return thin_[c] || (size_[c] < minRegion && !distinct(c));
+        };
         using Item = std::pair<long, int>;  // size, component: the smallest first
         std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
         for (int c = 0; c < C_; ++c)
@@ -548,6 +624,16 @@ private:
 
     // The neighbour of c with the closest mean colour (ties: the longest shared border, then
     // the lowest index).
+    // The RGB distance between the mean colours of components a and b.
+    double colourDistance(int a, int b) const {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double e = sum_[b * 3 + k] / size_[b] - sum_[a * 3 + k] / size_[a];
+            d += e * e;
+        }
+        return std::sqrt(d);
+    }
+
     int mostSimilarNeighbour(int c) const {
         double m[3];
         for (int k = 0; k < 3; ++k) m[k] = sum_[c * 3 + k] / size_[c];
@@ -616,7 +702,8 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
     MergeResult res;
     res.components = graph.components();
     graph.markThin(mp.sliverWidth);
-    res.merged = graph.mergeSmallAndThin(mp.minRegion);
+    res.merged = graph.mergeSmallAndThin(mp.minRegion, graph.componentsOfLabelsFrom(labels, mp.firstKept),
+                                         mp.keepContrast);
     res.weakMerged = graph.mergeWeakBorders(mp.weakEdge);
     res.count = graph.relabel(labels);
     return res;
@@ -669,7 +756,9 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
             ? options.fhMinSize
             : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
                                                  std::floor(work.total() / (8.0 * wanted))}));
-    const FhRun fh = graphSegment(work, options, fhMinSize, st);
+    const int noiseSize =
+        static_cast<int>(std::max<double>(1.0, std::round(minRegion * workShare)));
+    const FhRun fh = graphSegment(work, options, fhMinSize, std::min(noiseSize, fhMinSize), st);
     st.fhRegions = fh.rawCount;
     st.fhCleanRegions = fh.count;
     st.fhSeconds = secondsSince(t);

@@ -64,8 +64,9 @@ TEST_CASE("a segmented scene converts with every pixel painted and its ring keep
     CHECK(rep.regionUncovered < 0.002);
     CHECK(rep.convert.error.meanAbs < 3.0);
     CHECK(rep.interior.meanAbs < 2.0);
-    // Borders are where segments meet: worse than the inside, but no background line.
-    CHECK(rep.border.meanAbs < 12.0);
+    // Borders are where segments meet: worse than the inside, but no background line. (The
+    // background is one region with two holes, so its mesh wraps both the ring and the box.)
+    CHECK(rep.border.meanAbs < 14.0);
     // The ring is one mesh with one slit.
     int slitted = 0;
     for (const GradientMesh& m : doc.meshes) slitted += m.holeCount() == 1;

@@ -38,7 +38,8 @@ struct SegmentOptions {
     double defaultThreshold = 300;   // k for a 2^16-pixel working image, scaled by its size
     // FH's min_size, working-image pixels. 0 = the larger of minRegion (scaled) and an eighth
     // of the mean region size wanted (working pixels / segments, segments defaulting to 12):
-    // a large min_size rather than a large k keeps FH from leaking across object boundaries.
+    // a large min_size rather than a large k keeps FH from leaking across object boundaries
+    // (the distinct pieces it would swallow are lifted out again: distinctContrast).
     int fhMinSize = 0;
     int maxTrials = 7;               // FH runs spent searching k for `segments`
     int grabCutIterations = 1;
@@ -66,6 +67,11 @@ struct SegmentOptions {
     // (0–255 RGB distance between the pixels one further out on either side) is under this:
     // FH splits flat areas along arbitrary lines. Applied where sliverWidth is. 0 = never.
     double weakEdge = 12;
+    // A piece of FH's result under its minimum size stays a region of its own when its mean
+    // colour lies further than this (0–255 RGB distance) from every neighbour's and it has at
+    // least minRegion pixels: a small object is not merged into what surrounds it. 0 = merge
+    // by size alone.
+    double distinctContrast = 100;
 };
 
 struct SegmentStats {

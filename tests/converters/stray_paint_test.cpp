@@ -1,0 +1,114 @@
+// Whole images must not paint where the image has nothing: small saturated objects on a flat
+// background, each smaller than the segmentation's minimum piece, one cut by the image border.
+// If an object ends inside the background's region, that region's smooth mesh spreads the
+// object's colour far across the background (a stray wedge). Checked as a viewer would see it:
+// pixels far from any strong image edge that are badly off.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "converters/convert_segments.h"
+#include "formats/raster.h"
+#include "meshcore/render.h"
+
+using namespace gm;
+
+namespace {
+
+struct Disc {
+    double x, y, radius;
+    float r, g, b;
+};
+
+const Disc kDiscs[] = {
+    {8, 120, 15, 0.85f, 0.08f, 0.08f},    // cut by the left border: half a disc
+    {80, 60, 14, 0.08f, 0.75f, 0.15f},
+    {150, 150, 14, 0.10f, 0.20f, 0.90f},
+    {230, 80, 14, 0.95f, 0.45f, 0.05f},
+    {250, 190, 14, 0.25f, 0.10f, 0.15f},
+};
+
+// 300x240, white, with the discs above, each gently shaded towards its lower right.
+RgbaImage discsOnWhite() {
+    RgbaImage img(300, 240);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            float* p = img.at(x, y);
+            p[0] = p[1] = p[2] = 0.97f, p[3] = 1;
+            for (const Disc& d : kDiscs) {
+                const double dx = x + 0.5 - d.x, dy = y + 0.5 - d.y;
+                if (std::hypot(dx, dy) >= d.radius) continue;
+                const float shade = static_cast<float>(0.1 * (dx + dy) / d.radius);
+                p[0] = std::clamp(d.r - shade, 0.0f, 1.0f);
+                p[1] = std::clamp(d.g - shade, 0.0f, 1.0f);
+                p[2] = std::clamp(d.b - shade, 0.0f, 1.0f);
+            }
+        }
+    return img;
+}
+
+int channel(const RgbaImage& img, int x, int y, int c) {
+    return static_cast<int>(std::lround(img.at(x, y)[c] * 255));
+}
+
+// Pixels within 2 px of a strong edge: a morphological gradient (5x5 max minus min, the largest
+// over the channels) of at least 40, dilated by 2 px.
+std::vector<uint8_t> nearStrongEdges(const RgbaImage& img) {
+    const int W = img.width, H = img.height;
+    std::vector<uint8_t> strong(static_cast<size_t>(W) * H, 0), near(strong.size(), 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int c = 0; c < 3; ++c) {
+                int lo = 255, hi = 0;
+                for (int v = std::max(0, y - 2); v <= std::min(H - 1, y + 2); ++v)
+                    for (int u = std::max(0, x - 2); u <= std::min(W - 1, x + 2); ++u) {
+                        lo = std::min(lo, channel(img, u, v, c));
+                        hi = std::max(hi, channel(img, u, v, c));
+                    }
+                if (hi - lo >= 40) strong[static_cast<size_t>(y) * W + x] = 1;
+            }
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int v = std::max(0, y - 2); v <= std::min(H - 1, y + 2); ++v)
+                for (int u = std::max(0, x - 2); u <= std::min(W - 1, x + 2); ++u)
+                    if (strong[static_cast<size_t>(v) * W + u]) near[static_cast<size_t>(y) * W + x] = 1;
+    return near;
+}
+
+}  // namespace
+
+TEST_CASE("small objects on a flat background paint nothing beyond themselves",
+          "[convert][segment]") {
+    const RgbaImage image = discsOnWhite();
+    SegmentConvertOptions options;
+    SegmentConvertReport report;
+    const Document doc = convertSegmented(image, options, "discs", &report);
+    const RgbaImage render = renderDocument(doc, RenderOptions{}).image;
+    writeImage(render, std::string(GRADMESH_TMP) + "/stray_paint_discs.png");
+    const std::vector<uint8_t> nearEdge = nearStrongEdges(image);
+
+    long stray = 0;
+    double insideError = 0;
+    long insidePixels = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            int worst = 0;
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, std::abs(channel(image, x, y, c) - channel(render, x, y, c)));
+            if (worst > 48 && !nearEdge[static_cast<size_t>(y) * image.width + x]) ++stray;
+            for (const Disc& d : kDiscs)
+                if (std::hypot(x + 0.5 - d.x, y + 0.5 - d.y) < d.radius - 2) {
+                    for (int c = 0; c < 3; ++c)
+                        insideError += std::abs(channel(image, x, y, c) - channel(render, x, y, c));
+                    insidePixels += 3;
+                }
+        }
+    INFO("regions " << report.convert.regions.size() << ", E " << report.convert.error.meanAbs
+                    << ", stray " << stray << ", inside E " << insideError / insidePixels);
+    // Every disc is a region of its own, besides the background.
+    CHECK(report.convert.regions.size() >= 6);
+    CHECK(stray == 0);
+    CHECK(insideError / insidePixels < 10);
+}
