@@ -226,8 +226,10 @@ std::vector<LoopSpan> keptSpans(const std::vector<Polygon*>& loops,
             if (!keep[l][k]) continue;
             minX = std::min(minX, p[k].x), maxX = std::max(maxX, p[k].x);
             minY = std::min(minY, p[k].y), maxY = std::max(maxY, p[k].y);
-            if (prev >= 0) spans.push_back({static_cast<int>(l), prev, k});
-            else first = k;
+            if (prev >= 0)
+                spans.push_back({static_cast<int>(l), prev, k});
+            else
+                first = k;
             prev = k;
         }
         spans.push_back({static_cast<int>(l), prev, first});
@@ -286,7 +288,8 @@ std::vector<Vec2> splitLongEdges(const std::vector<Vec2>& p, const std::vector<u
         const Vec2 a = p[kept[k]], b = p[kept[(k + 1) % kept.size()]];
         const int pieces =
             maxSegment > 0 ? std::max(1, static_cast<int>(std::ceil(norm(b - a) / maxSegment))) : 1;
-        for (int q = 0; q < pieces; ++q) out.push_back(a + (static_cast<double>(q) / pieces) * (b - a));
+        for (int q = 0; q < pieces; ++q)
+            out.push_back(a + (static_cast<double>(q) / pieces) * (b - a));
     }
     return out;
 }
@@ -365,7 +368,9 @@ struct CoverageField {
     CoverageField(const LocalGrid& g, int width, int height,
                   const std::function<float(int, int)>& source, double smoothing)
         : margin(smoothing > 0 ? static_cast<int>(std::ceil(3 * smoothing)) : 0),
-          w(g.w + 2 * margin), h(g.h + 2 * margin), values(static_cast<size_t>(w) * h) {
+          w(g.w + 2 * margin),
+          h(g.h + 2 * margin),
+          values(static_cast<size_t>(w) * h) {
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) {
                 const int x = std::clamp(g.x0 - margin + i, 0, width - 1);
@@ -596,22 +601,22 @@ std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, 
 Region growRegionInto(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under,
                       double outerLevel) {
     if (overlap <= 0 && minHole <= 0) return own;
-    RegionOptions ro;
-    ro.minArea = 1;
-    ro.minHole = minHole;
-    ro.outerLevel = outerLevel;
+    RegionOptions regionOptions;
+    regionOptions.minArea = 1;
+    regionOptions.minHole = minHole;
+    regionOptions.outerLevel = outerLevel;
     std::vector<uint8_t> grown = own.mask;
     if (overlap > 0) {
         const std::vector<uint8_t> d = dilateMask(own.mask, own.width, own.height, overlap);
         for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
     }
-    std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, grown), ro);
-    if (rs.empty()) throw Error("the grown region vanished");
-    Region g = std::move(rs.front());  // the largest: grown from one component, it is one
-    g.label = own.label;
-    g.mask = own.mask;
-    g.pixelCount = own.pixelCount;
-    return g;
+    std::vector<Region> grownRegions = extractRegions(coverageFromBits(own.width, own.height, grown), regionOptions);
+    if (grownRegions.empty()) throw Error("the grown region vanished");
+    Region region = std::move(grownRegions.front());  // the largest: grown from one component, it is one
+    region.label = own.label;
+    region.mask = own.mask;
+    region.pixelCount = own.pixelCount;
+    return region;
 }
 
 PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h) {

@@ -168,7 +168,7 @@ std::vector<Segment> describeSegments(const cv::Mat& bgr, const std::vector<int>
 }
 
 // One segment's GrabCut result over its region of interest.
-struct GrabCutResult {
+struct SegmentCut {
     cv::Rect roi;
     cv::Mat before, mask;  // empty: the segment is left as it is
 };
@@ -234,9 +234,9 @@ bool seededGrabCut(const cv::Mat& bgr, const cv::Rect& roi, cv::Mat& mask, int i
 
 // GrabCut on segment s's band, over its bounding box widened by the margin. It reads the
 // labels and the image only, so segments can run in parallel.
-GrabCutResult cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const Segment& seg,
+SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const Segment& seg,
                          int s, const GrabCutParams& params) {
-    GrabCutResult cut;
+    SegmentCut cut;
     const int W = bgr.cols, H = bgr.rows;
     if (seg.pixels < std::max(params.minPixels, 16L) ||
         seg.pixels == static_cast<long>(labels.size()))
@@ -267,7 +267,7 @@ struct BandVotes {
     explicit BandVotes(size_t n)
         : ownerSaysBg(n, 0), claim(n, -1), claimDist(n, std::numeric_limits<float>::infinity()) {}
 
-    void add(const cv::Mat& bgr, int s, const Segment& seg, const GrabCutResult& cut,
+    void add(const cv::Mat& bgr, int s, const Segment& seg, const SegmentCut& cut,
              SegmentStats& st) {
         if (cut.mask.empty()) return;
         const int W = bgr.cols;
@@ -322,9 +322,10 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
     const int batch = 4 * workers;
     for (int first = 0; first < count; first += batch) {
         const int n = std::min(batch, count - first);
-        std::vector<GrabCutResult> cuts(static_cast<size_t>(n));
+        std::vector<SegmentCut> cuts(static_cast<size_t>(n));
         parallelFor(n, workers, [&](int k, int) {
-            cuts[static_cast<size_t>(k)] = cutSegment(bgr, labels, segs[first + k], first + k, params);
+            cuts[static_cast<size_t>(k)] =
+                cutSegment(bgr, labels, segs[first + k], first + k, params);
         });
         for (int k = 0; k < n; ++k)
             votes.add(bgr, first + k, segs[first + k], cuts[static_cast<size_t>(k)], st);
