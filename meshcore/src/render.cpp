@@ -126,7 +126,10 @@ class LayerRenderer {
 public:
     LayerRenderer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
                   Target& target)
-        : mesh_(mesh), meshIndex_(meshIndex), options_(options), target_(target),
+        : mesh_(mesh),
+          meshIndex_(meshIndex),
+          options_(options),
+          target_(target),
           image_(*target.image) {}
 
     void run() {
@@ -191,7 +194,8 @@ private:
     // whose first row lies in it, so that each patch counts once).
     size_t renderStrip(int strip, StripBuffers& B) {
         const int core0 = strip * kStripRows, core1 = std::min(height_, core0 + kStripRows);
-        const int ext0 = std::max(0, core0 - kHaloRows), ext1 = std::min(height_, core1 + kHaloRows);
+        const int ext0 = std::max(0, core0 - kHaloRows),
+                  ext1 = std::min(height_, core1 + kHaloRows);
         const int rows = ext1 - ext0;
         const size_t n = static_cast<size_t>(width_) * rows;
         B.alpha.assign(n, 0.0f);

@@ -323,7 +323,8 @@ bool quantizeTangent(const CornerTangent& t, const CodedQuantizer& quant, bool b
 // Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the
 // quantised grid (enormous coordinates, degenerate knot spacing); the caller then writes the
 // mesh as float64, always within bounds.
-bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
+bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift,
+                 MeshPayloads& p) {
     int e[kFieldCount];
     chooseExponents(m, shift, e);
     for (int x : e)
