@@ -682,6 +682,62 @@ std::vector<int> upscaleToImage(const cv::Mat& small, const std::vector<int>& la
     return upscaleLabelsRefined(small, labels, bgr, options.threads, &st.borderRefined);
 }
 
+// `bgr` scaled down (area averaging) to at most maxPixels pixels; itself when it is no larger
+// or maxPixels is 0.
+cv::Mat downscaled(const cv::Mat& bgr, long maxPixels) {
+    const int W = bgr.cols, H = bgr.rows;
+    const long N = static_cast<long>(W) * H;
+    if (maxPixels <= 0 || N <= maxPixels) return bgr;
+    const double f = std::sqrt(static_cast<double>(maxPixels) / N);
+    const int ws = std::max(1, static_cast<int>(std::floor(W * f)));
+    const int hs = std::max(1, static_cast<int>(std::floor(H * f)));
+    cv::Mat small;
+    cv::resize(bgr, small, cv::Size(ws, hs), 0, 0, cv::INTER_AREA);
+    return small;
+}
+
+// (1) FH on the working image (`work`), its minimum size from minRegion scaled to it.
+FhRun graphStage(const cv::Mat& work, long N, long minRegion, const SegmentOptions& options,
+                 SegmentStats& st) {
+    st.workWidth = work.cols;
+    st.workHeight = work.rows;
+    const double workShare = static_cast<double>(work.total()) / N;
+    const int wanted = options.segments > 0 ? options.segments : 12;
+    const int fhMinSize =
+        options.fhMinSize > 0
+            ? options.fhMinSize
+            : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
+                                                 std::floor(work.total() / (8.0 * wanted))}));
+    const FhRun fh = graphSegment(work, options, fhMinSize, st);
+    st.fhRegions = fh.rawCount;
+    st.fhCleanRegions = fh.count;
+    return fh;
+}
+
+// (2) GrabCut on each segment's boundary band, at full resolution up to grabCutPixels; the
+// labels at full size.
+std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhRun& fh,
+                              long minRegion, const SegmentOptions& options, SegmentStats& st) {
+    const int W = bgr.cols, H = bgr.rows;
+    const long N = static_cast<long>(W) * H;
+    if (!(options.grabCut && fh.count > 1 && W >= 8 && H >= 8))
+        return upscaleToImage(work, fh.labels, bgr, options, st);
+    const cv::Mat gc = downscaled(bgr, options.grabCutPixels);
+    st.grabCutWidth = gc.cols;
+    st.grabCutHeight = gc.rows;
+    std::vector<int> labels = upscaleLabels(fh.labels, work.cols, work.rows, gc.cols, gc.rows);
+    const double scale = static_cast<double>(gc.cols) / work.cols;
+    const int band =
+        options.band > 0 ? options.band : std::max(3, static_cast<int>(std::ceil(scale)) + 2);
+    const double gcShare = static_cast<double>(gc.total()) / N;
+    const long minPixels = std::lround(
+        (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
+    st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
+                                          std::max(1, options.grabCutIterations), minPixels,
+                                          options.threads, st);
+    return upscaleToImage(gc, labels, bgr, options, st);
+}
+
 }  // namespace
 
 Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
@@ -698,53 +754,13 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
         options.minRegion > 0 ? options.minRegion : std::max(64L, N / 1000);
     const cv::Mat bgr = toBgr8(image);
 
-    // (1) FH on the working image.
     auto t = Clock::now();
-    auto downscale = [&](long maxPixels) {
-        if (maxPixels <= 0 || N <= maxPixels) return bgr;
-        const double f = std::sqrt(static_cast<double>(maxPixels) / N);
-        const int ws = std::max(1, static_cast<int>(std::floor(W * f)));
-        const int hs = std::max(1, static_cast<int>(std::floor(H * f)));
-        cv::Mat small;
-        cv::resize(bgr, small, cv::Size(ws, hs), 0, 0, cv::INTER_AREA);
-        return small;
-    };
-    const cv::Mat work = downscale(options.workPixels);
-    st.workWidth = work.cols;
-    st.workHeight = work.rows;
-    const double workShare = static_cast<double>(work.total()) / N;
-    const int wanted = options.segments > 0 ? options.segments : 12;
-    const int fhMinSize =
-        options.fhMinSize > 0
-            ? options.fhMinSize
-            : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
-                                                 std::floor(work.total() / (8.0 * wanted))}));
-    const FhRun fh = graphSegment(work, options, fhMinSize, st);
-    st.fhRegions = fh.rawCount;
-    st.fhCleanRegions = fh.count;
+    const cv::Mat work = downscaled(bgr, options.workPixels);
+    const FhRun fh = graphStage(work, N, minRegion, options, st);
     st.fhSeconds = secondsSince(t);
 
-    // (2) GrabCut on each segment's boundary band, at full resolution up to grabCutPixels.
     t = Clock::now();
-    if (options.grabCut && fh.count > 1 && W >= 8 && H >= 8) {
-        const cv::Mat gc = downscale(options.grabCutPixels);
-        st.grabCutWidth = gc.cols;
-        st.grabCutHeight = gc.rows;
-        std::vector<int> labels = upscaleLabels(fh.labels, work.cols, work.rows, gc.cols, gc.rows);
-        const double scale = static_cast<double>(gc.cols) / work.cols;
-        const int band = options.band > 0
-                             ? options.band
-                             : std::max(3, static_cast<int>(std::ceil(scale)) + 2);
-        const double gcShare = static_cast<double>(gc.total()) / N;
-        const long minPixels = std::lround(
-            (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
-        st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
-                                              std::max(1, options.grabCutIterations),
-                                              minPixels, options.threads, st);
-        seg.labels = upscaleToImage(gc, labels, bgr, options, st);
-    } else {
-        seg.labels = upscaleToImage(work, fh.labels, bgr, options, st);
-    }
+    seg.labels = grabCutStage(bgr, work, fh, minRegion, options, st);
     st.grabCutSeconds = secondsSince(t);
 
     // (3) Region growing into what GrabCut left unclaimed.
