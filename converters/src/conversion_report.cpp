@@ -34,20 +34,21 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
     const ConvertReport& convertReport = report.convert;
     const SegmentStats& segmentation = report.segmentation;
     s << ",\n  \"segments\": {\"count\": " << convertReport.regions.size()
-      << ", \"graph_regions\": " << segmentation.fhRegions << ", \"grabcut_changed\": " << segmentation.grabCutChanged
+      << ", \"graph_regions\": " << segmentation.fhRegions
+      << ", \"grabcut_changed\": " << segmentation.grabCutChanged
       << ", \"border_refined\": " << segmentation.borderRefined
       << ", \"grown\": " << segmentation.grown << ", \"merged\": " << segmentation.merged
-      << ", \"failed\": " << report.failedRegions
-      << ", \"holes_filled\": " << report.filledRegions
+      << ", \"failed\": " << report.failedRegions << ", \"holes_filled\": " << report.filledRegions
       << ", \"thin_parts_apart\": " << report.trimmedRegions
       << ", \"split_at_necks\": " << report.splitRegions
       << ", \"base_patches\": " << report.basePatches
       << ", \"region_uncovered\": " << num(report.regionUncovered)
-      << ", \"total_patches\": " << totalPatches
-      << ", \"conversions\": " << report.conversions
+      << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions
       << ",\n    \"seconds\": {\"segmentation\": " << num(report.segmentSeconds)
-      << ", \"graph\": " << num(segmentation.fhSeconds) << ", \"grabcut\": " << num(segmentation.grabCutSeconds)
-      << ", \"grow\": " << num(segmentation.growSeconds) << ", \"merge\": " << num(segmentation.mergeSeconds)
+      << ", \"graph\": " << num(segmentation.fhSeconds)
+      << ", \"grabcut\": " << num(segmentation.grabCutSeconds)
+      << ", \"grow\": " << num(segmentation.growSeconds)
+      << ", \"merge\": " << num(segmentation.mergeSeconds)
       << ", \"regions\": " << num(report.regionsSeconds)
       << ", \"convert_wall\": " << num(report.convertSeconds)
       << ", \"measure\": " << num(report.measureSeconds)
@@ -133,17 +134,21 @@ std::string conversionReportJson(const ReportFacts& facts, const SegmentConvertR
                                  const CompactFile& compact) {
     const ConvertReport& convertReport = report.convert;
     std::ostringstream s;
-    s << "{\n  \"input\": " << jsonString(facts.input) << ",\n  \"output\": " << jsonString(facts.output)
-      << ",\n  \"width\": " << facts.width << ",\n  \"height\": " << facts.height
+    s << "{\n  \"input\": " << jsonString(facts.input)
+      << ",\n  \"output\": " << jsonString(facts.output) << ",\n  \"width\": " << facts.width
+      << ",\n  \"height\": " << facts.height
       << ",\n  \"mask_source\": " << jsonString(convertReport.maskSource)
       << ",\n  \"colors\": " << jsonString(colorModeName(facts.colors))
-      << ",\n  \"max_error\": " << num(facts.maxError) << ",\n  \"max_patches\": " << facts.maxPatches
-      << ",\n  \"seconds\": " << secondsJson(convertReport.seconds) << ",\n  \"io_seconds\": {\"read\": "
-      << num(facts.readSeconds) << ", \"mask\": " << num(facts.maskSeconds) << ", \"write\": "
-      << num(facts.writeSeconds) << ", \"end_to_end\": " << num(facts.endToEndSeconds) << "}"
+      << ",\n  \"max_error\": " << num(facts.maxError)
+      << ",\n  \"max_patches\": " << facts.maxPatches
+      << ",\n  \"seconds\": " << secondsJson(convertReport.seconds)
+      << ",\n  \"io_seconds\": {\"read\": " << num(facts.readSeconds)
+      << ", \"mask\": " << num(facts.maskSeconds) << ", \"write\": " << num(facts.writeSeconds)
+      << ", \"end_to_end\": " << num(facts.endToEndSeconds) << "}"
       << ",\n  \"meshes\": " << facts.meshes << ",\n  \"patches\": " << convertReport.patches
-      << ",\n  \"error\": " << errorJson(convertReport.error) << ",\n  \"bytes\": {\"output\": "
-      << facts.outputBytes << ", \"gmb_lossless\": " << facts.gmbLosslessBytes
+      << ",\n  \"error\": " << errorJson(convertReport.error)
+      << ",\n  \"bytes\": {\"output\": " << facts.outputBytes
+      << ", \"gmb_lossless\": " << facts.gmbLosslessBytes
       << ", \"gmb_compact\": " << compact.bytes.size() << ", \"svg\": ";
     if (facts.exactSvgBytes)
         s << *facts.exactSvgBytes << "}";
@@ -154,7 +159,8 @@ std::string conversionReportJson(const ReportFacts& facts, const SegmentConvertR
       << ", \"error\": " << errorJson(compact.error) << "}";
     if (facts.segment) writeSegmentsJson(s, report, facts.totalPatches);
     s << ",\n  \"regions\": [";
-    for (size_t k = 0; k < convertReport.regions.size(); ++k) writeRegionJson(s, report, facts.segment, k);
+    for (size_t k = 0; k < convertReport.regions.size(); ++k)
+        writeRegionJson(s, report, facts.segment, k);
     s << "\n  ]\n}\n";
     return s.str();
 }

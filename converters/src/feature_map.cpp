@@ -235,8 +235,13 @@ class FeatureMapSolver {
 public:
     FeatureMapSolver(const TriMesh& mesh, const ParamMap& initial, const FeatureMapOptions& options,
                      const std::vector<FeatureCoords>& f)
-        : mesh_(mesh), initial_(initial), options_(options), f_(f),
-          nv_(static_cast<int>(mesh.vertices.size())), frozen_(nv_, 0), vt_(mesh) {
+        : mesh_(mesh),
+          initial_(initial),
+          options_(options),
+          f_(f),
+          nv_(static_cast<int>(mesh.vertices.size())),
+          frozen_(nv_, 0),
+          vt_(mesh) {
         // Loop vertices never move; interior vertices whose solve folds a triangle are frozen too.
         for (int i : mesh.outerLoop) frozen_[i] = 1;
         for (const auto& h : mesh.holeLoops)
@@ -285,7 +290,8 @@ private:
     // accumulate over the iterations).
     detail::WeightMatrix reweighted() {
         for (int j = 0; j < nv_; ++j) columnScale_[j] /= std::pow(sigma_[j], options_.eta);
-        columnScale_ /= columnScale_.mean();  // keeps the weights' magnitude; the solution ignores it
+        // Keeps the weights' magnitude; the solution ignores it.
+        columnScale_ /= columnScale_.mean();
         return W0_ * columnScale_.asDiagonal();
     }
 
@@ -317,7 +323,8 @@ private:
             if (!next.allFinite())
                 throw Error("feature map: the stretch-weighted system could not be solved");
             for (int i = 0; i < nv_; ++i)
-                full_[i] = unknown_[i] < 0 ? uv_[i] : Vec2{next(unknown_[i], 0), next(unknown_[i], 1)};
+                full_[i] =
+                    unknown_[i] < 0 ? uv_[i] : Vec2{next(unknown_[i], 0), next(unknown_[i], 1)};
             const std::vector<int> flipped = detail::flippedTriangles(mesh_, full_);
             folded = !flipped.empty();
             if (freezeFolded(flipped) == 0) break;

@@ -117,7 +117,8 @@ std::vector<Candidate> rankCandidates(const ColorResult& current, const RgbaImag
 }
 
 // Knots of `gridOptions` plus the first `count` splits of `batch`.
-GridOptions withSplits(GridOptions gridOptions, const std::vector<const Candidate*>& batch, size_t count) {
+GridOptions withSplits(GridOptions gridOptions, const std::vector<const Candidate*>& batch,
+                       size_t count) {
     for (size_t k = 0; k < count; ++k)
         (batch[k]->alongU ? gridOptions.knotsU : gridOptions.knotsV).push_back(batch[k]->knot);
     std::sort(gridOptions.knotsU.begin(), gridOptions.knotsU.end());
@@ -128,8 +129,8 @@ GridOptions withSplits(GridOptions gridOptions, const std::vector<const Candidat
 // A batch whose mesh `whole` overshoots the target: the shortest prefix of it (in rank order)
 // that still reaches the target, so that the last step does not add patches the target does
 // not ask for. E is taken as linear in the splits' summed scores between the two nearest known
-// prefixes (regula falsi: `current` is the empty prefix, `whole` the full batch); each guess costs a
-// fit, so none is tried when it would save under 2 % of the patches the batch adds, and at most
+// prefixes (regula falsi: `current` is the empty prefix, `whole` the full batch); each guess costs
+// a fit, so none is tried when it would save under 2 % of the patches the batch adds, and at most
 // options.trimSteps are. `whole` becomes the mesh of the returned prefix length.
 size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& current,
                  ColorResult& whole, const GridOptions& gridOptions, const GridBuilder& grid,
@@ -154,7 +155,8 @@ size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& 
             std::lower_bound(score.begin() + lo + 1, score.begin() + hi, at) - score.begin());
         if (k >= hi || patchesOf(hi) - patchesOf(k) < 0.02 * (patchesOf(batch.size()) - before))
             break;
-        ColorResult r = computeColors(grid.build(withSplits(gridOptions, batch, k)), image, region, colorOptions);
+        ColorResult r = computeColors(grid.build(withSplits(gridOptions, batch, k)), image, region,
+                                      colorOptions);
         if (r.error.meanAbs <= options.maxError) {
             hi = k;
             eHi = r.error.meanAbs;
@@ -173,8 +175,13 @@ class Refiner {
 public:
     Refiner(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
             const Region& region, const RefineOptions& options)
-        : grid_(grid), image_(image), region_(region), options_(options),
-          colorOptions_(options.color), gridOptions_(initial), t0_(Clock::now()) {
+        : grid_(grid),
+          image_(image),
+          region_(region),
+          options_(options),
+          colorOptions_(options.color),
+          gridOptions_(initial),
+          t0_(Clock::now()) {
         colorOptions_.keepPixels = true;
     }
 
@@ -184,7 +191,8 @@ public:
         gridOptions_.knotsV = current_.mesh.v;
         result_.steps.push_back(stepOf(current_, 0, 0, lap()));
         while (current_.error.meanAbs > options_.maxError) {
-            const std::vector<Candidate> ranked = rankCandidates(current_, image_, region_, options_);
+            const std::vector<Candidate> ranked =
+                rankCandidates(current_, image_, region_, options_);
             if (ranked.empty()) break;
             if (tryBatch(ranked)) continue;
             if (!trySingleSplits(ranked)) break;

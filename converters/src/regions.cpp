@@ -610,9 +610,11 @@ Region growRegionInto(const Region& own, int overlap, int minHole, const std::ve
         const std::vector<uint8_t> d = dilateMask(own.mask, own.width, own.height, overlap);
         for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
     }
-    std::vector<Region> grownRegions = extractRegions(coverageFromBits(own.width, own.height, grown), regionOptions);
+    std::vector<Region> grownRegions =
+        extractRegions(coverageFromBits(own.width, own.height, grown), regionOptions);
     if (grownRegions.empty()) throw Error("the grown region vanished");
-    Region region = std::move(grownRegions.front());  // the largest: grown from one component, it is one
+    Region region =
+        std::move(grownRegions.front());  // the largest: grown from one component, it is one
     region.label = own.label;
     region.mask = own.mask;
     region.pixelCount = own.pixelCount;

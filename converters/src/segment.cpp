@@ -234,8 +234,8 @@ bool seededGrabCut(const cv::Mat& bgr, const cv::Rect& roi, cv::Mat& mask, int i
 
 // GrabCut on segment s's band, over its bounding box widened by the margin. It reads the
 // labels and the image only, so segments can run in parallel.
-SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const Segment& seg,
-                         int s, const GrabCutParams& params) {
+SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const Segment& seg, int s,
+                      const GrabCutParams& params) {
     SegmentCut cut;
     const int W = bgr.cols, H = bgr.rows;
     if (seg.pixels < std::max(params.minPixels, 16L) ||
@@ -732,9 +732,9 @@ std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhR
     const double gcShare = static_cast<double>(gc.total()) / N;
     const long minPixels = std::lround(
         (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
-    st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
-                                          std::max(1, options.grabCutIterations), minPixels,
-                                          options.threads, st);
+    st.grabCutChanged =
+        refineWithGrabCut(gc, labels, fh.count, band, std::max(1, options.grabCutIterations),
+                          minPixels, options.threads, st);
     return upscaleToImage(gc, labels, bgr, options, st);
 }
 

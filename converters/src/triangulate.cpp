@@ -216,8 +216,8 @@ namespace {
 // The pixels of the region whose centres are at least `clearance` from every loop edge (found
 // through a grid of the edges' widened bounding boxes): samples go only there.
 std::vector<uint8_t> pixelsClearOfLoops(const Region& region, const TriMesh& mesh,
-                                        const std::vector<Vec2>& pts, int outerCount,
-                                        int loopCount, double clearance) {
+                                        const std::vector<Vec2>& pts, int outerCount, int loopCount,
+                                        double clearance) {
     double minX = pts[0].x, minY = pts[0].y, maxX = minX, maxY = minY;
     for (int k = 0; k < loopCount; ++k) {
         minX = std::min(minX, pts[k].x), maxX = std::max(maxX, pts[k].x);
@@ -230,10 +230,14 @@ std::vector<uint8_t> pixelsClearOfLoops(const Region& region, const TriMesh& mes
     auto addLoop = [&](int first, int size) {
         for (int k = 0; k < size; ++k) {
             const int a = first + k, b = first + (k + 1) % size;
-            const int cx0 = std::max(0, static_cast<int>((std::min(pts[a].x, pts[b].x) - clearance - minX) / cell));
-            const int cx1 = std::min(gw - 1, static_cast<int>((std::max(pts[a].x, pts[b].x) + clearance - minX) / cell));
-            const int cy0 = std::max(0, static_cast<int>((std::min(pts[a].y, pts[b].y) - clearance - minY) / cell));
-            const int cy1 = std::min(gh - 1, static_cast<int>((std::max(pts[a].y, pts[b].y) + clearance - minY) / cell));
+            const int cx0 = std::max(
+                0, static_cast<int>((std::min(pts[a].x, pts[b].x) - clearance - minX) / cell));
+            const int cx1 = std::min(
+                gw - 1, static_cast<int>((std::max(pts[a].x, pts[b].x) + clearance - minX) / cell));
+            const int cy0 = std::max(
+                0, static_cast<int>((std::min(pts[a].y, pts[b].y) - clearance - minY) / cell));
+            const int cy1 = std::min(
+                gh - 1, static_cast<int>((std::max(pts[a].y, pts[b].y) + clearance - minY) / cell));
             for (int cy = cy0; cy <= cy1; ++cy)
                 for (int cx = cx0; cx <= cx1; ++cx) grid[cy * gw + cx].push_back({a, b});
         }
@@ -241,7 +245,8 @@ std::vector<uint8_t> pixelsClearOfLoops(const Region& region, const TriMesh& mes
     addLoop(0, outerCount);
     for (const auto& loop : mesh.holeLoops) addLoop(loop.front(), static_cast<int>(loop.size()));
     auto isClear = [&](Vec2 s) {
-        const int cx = static_cast<int>((s.x - minX) / cell), cy = static_cast<int>((s.y - minY) / cell);
+        const int cx = static_cast<int>((s.x - minX) / cell),
+                  cy = static_cast<int>((s.y - minY) / cell);
         if (cx < 0 || cy < 0 || cx >= gw || cy >= gh) return false;
         for (const auto& [a, b] : grid[cy * gw + cx])
             if (pointSegmentDistance(s, pts[a], pts[b]) < clearance) return false;
@@ -311,7 +316,8 @@ private:
         holeOf_.assign(pts_.size(), -1);
         for (int c = 0; c < 4; ++c) {
             const int from = mesh_.corner[c], to = c == 3 ? outerCount_ : mesh_.corner[c + 1];
-            for (int k = from; k <= to; ++k) sides_[k % outerCount_] |= static_cast<uint8_t>(1u << c);
+            for (int k = from; k <= to; ++k)
+                sides_[k % outerCount_] |= static_cast<uint8_t>(1u << c);
         }
         for (size_t hIdx = 0; hIdx < mesh_.holeLoops.size(); ++hIdx)
             for (int v : mesh_.holeLoops[hIdx]) holeOf_[v] = static_cast<int>(hIdx);
@@ -354,7 +360,8 @@ private:
             if (!inDomain(f)) continue;
             const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
             const bool sameSide = (sides_[a] & sides_[b] & sides_[c]) != 0;
-            const bool sameHole = holeOf_[a] >= 0 && holeOf_[a] == holeOf_[b] && holeOf_[a] == holeOf_[c];
+            const bool sameHole =
+                holeOf_[a] >= 0 && holeOf_[a] == holeOf_[b] && holeOf_[a] == holeOf_[c];
             if (sameSide || sameHole) {
                 steiner.push_back((1.0 / 3) * (pts_[a] + pts_[b] + pts_[c]));
                 continue;

@@ -70,8 +70,8 @@ Document refitWithSamples(const Document& doc, const RgbaImage& image,
         colorOptions.mode = bicubic ? ColorMode::FitBicubic : mode;
         colorOptions.threads = 1;
         colorOptions.warmStart = true;  // the colours given are near the refit's
-        out.meshes[k] =
-            fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), colorOptions);
+        out.meshes[k] = fitColorsToSamples(doc.meshes[k], image, region, samples,
+                                           static_cast<int>(k), colorOptions);
     };
     parallelFor(static_cast<int>(doc.meshes.size()), threadCount(threads), refit);
     return out;

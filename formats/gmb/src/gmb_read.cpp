@@ -821,8 +821,8 @@ void Decoder::readStreamNodes(CompactStreamReader& in, ByteReader& r, const Mesh
 
 // Slit k: its place, its ends' u-derivatives, and its lower nodes as residuals from the nodes
 // above them.
-void Decoder::readStreamSlit(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
-                             size_t k, Slit& s) {
+void Decoder::readStreamSlit(CompactStreamReader& in, ByteReader& r, const MeshHeader& h, size_t k,
+                             Slit& s) {
     const uint64_t F = static_cast<uint64_t>(h.components());
     const uint64_t n = h.nodes();
     const size_t C1 = static_cast<size_t>(h.columns + 1);

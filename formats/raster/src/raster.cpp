@@ -228,7 +228,8 @@ public:
         renderOptions.scale = options.rasterScale;
         RgbaImage img = renderDocument(doc, renderOptions).image;
         compositeOver(img, options.background);
-        if (options.meshLines[3] > 0) drawMeshLines(img, doc, renderOptions.scale, options.meshLines);
+        if (options.meshLines[3] > 0)
+            drawMeshLines(img, doc, renderOptions.scale, options.meshLines);
         return encodeImage(img, path);
     }
 };

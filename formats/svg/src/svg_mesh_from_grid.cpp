@@ -102,8 +102,12 @@ Vec3 lineDerivative(const std::vector<Vec3>& c, const std::vector<double>& h, in
 class GridMeshBuilder {
 public:
     explicit GridMeshBuilder(const SvgPatchGrid& g)
-        : g_(g), C_(g.columns), R_(g.rows), mesh_(C_, R_),
-          breakAt_(static_cast<size_t>(C_ + 1) * (R_ + 1), 0), leftPosU_(breakAt_.size()) {}
+        : g_(g),
+          C_(g.columns),
+          R_(g.rows),
+          mesh_(C_, R_),
+          breakAt_(static_cast<size_t>(C_ + 1) * (R_ + 1), 0),
+          leftPosU_(breakAt_.size()) {}
 
     GradientMesh build() {
         chooseKnots();
@@ -158,7 +162,8 @@ private:
         const Vec2 dR = hasR ? (3.0 / du_[c]) * (g.H(c, r)[0] - g.P(c, r)) : Vec2{};
         if (hasL && hasR) {
             const Vec2 avg = 0.5 * (dL + dR);
-            const double moveL = norm(avg - dL) * du_[c - 1] / 3, moveR = norm(avg - dR) * du_[c] / 3;
+            const double moveL = norm(avg - dL) * du_[c - 1] / 3,
+                         moveR = norm(avg - dR) * du_[c] / 3;
             if (moveL <= kHandleAgreement && moveR <= kHandleAgreement) {
                 n.posU = avg;
             } else {
@@ -194,14 +199,16 @@ private:
             for (size_t s = 0; s + 1 < cuts.size(); ++s) {
                 const int a = cuts[s], b = cuts[s + 1];
                 // Left to right: at a break the right section's value is the node's.
-                for (int c = a; c <= b; ++c) mesh_.node(c, r).colU = lineDerivative(line, du_, c, a, b);
+                for (int c = a; c <= b; ++c)
+                    mesh_.node(c, r).colU = lineDerivative(line, du_, c, a, b);
             }
         }
         std::vector<Vec3> column;
         for (int c = 0; c <= C_; ++c) {
             column.assign(static_cast<size_t>(R_) + 1, Vec3{});
             for (int r = 0; r <= R_; ++r) column[r] = g_.C(c, r);
-            for (int r = 0; r <= R_; ++r) mesh_.node(c, r).colV = lineDerivative(column, dv_, r, 0, R_);
+            for (int r = 0; r <= R_; ++r)
+                mesh_.node(c, r).colV = lineDerivative(column, dv_, r, 0, R_);
         }
     }
 

@@ -232,7 +232,10 @@ Vec2 coonsInterior(const Vec2 (&q)[4][4], bool mirrorU, bool mirrorV) {
 class MeshGradientWriter {
 public:
     MeshGradientWriter(std::string& out, const SvgPatchGrid& g, const NumberSyntax& syntax)
-        : out_(out), g_(g), syntax_(syntax), dec_(syntax.decimals),
+        : out_(out),
+          g_(g),
+          syntax_(syntax),
+          dec_(syntax.decimals),
           // The tensor attribute is left out when the Coons interior Inkscape would assume is
           // the same point at the precision written (exact syntax), or within kTensorTolerance
           // px (compact syntax: the interior points move the patch's inside, not its edges).
