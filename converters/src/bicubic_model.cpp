@@ -20,9 +20,9 @@ BicubicConversion toBicubicModel(const Document& doc, int threads) {
     BicubicConversion out;
     out.doc = doc;
     if (!hasHermiteMeshes(doc)) return out;
-    RenderOptions ro;
-    ro.threads = threads;
-    RgbaImage target = renderDocument(doc, ro).image;
+    RenderOptions renderOptions;
+    renderOptions.threads = threads;
+    RgbaImage target = renderDocument(doc, renderOptions).image;
     std::vector<uint8_t> covered(static_cast<size_t>(target.width) * target.height, 0);
     for (size_t p = 0; p < covered.size(); ++p) {
         float* px = &target.pixels[4 * p];
@@ -35,7 +35,7 @@ BicubicConversion toBicubicModel(const Document& doc, int threads) {
         if (m.colorModel == ColorModel::Hermite) useBicubicModel(m);
     }
     for (const GradientMesh& m : doc.meshes) out.refitted += m.colorModel == ColorModel::Hermite;
-    out.error = compareOverMask(target, renderDocument(out.doc, ro).image, covered);
+    out.error = compareOverMask(target, renderDocument(out.doc, renderOptions).image, covered);
     return out;
 }
 

@@ -182,11 +182,11 @@ void slotIndices(const PatchSlots& ps, int idx[12]) {
 
 RenderResult renderForSamples(const GradientMesh& mesh, const RgbaImage& image,
                               const ColorOptions& options) {
-    RenderOptions ro;
-    ro.wantSamples = true;
-    ro.antialias = false;
-    ro.threads = options.threads;
-    return renderMesh(mesh, image.width, image.height, ro);
+    RenderOptions renderOptions;
+    renderOptions.wantSamples = true;
+    renderOptions.antialias = false;
+    renderOptions.threads = options.threads;
+    return renderMesh(mesh, image.width, image.height, renderOptions);
 }
 
 // Error figures of `mesh` (coloured) against the image over the region, from render samples.

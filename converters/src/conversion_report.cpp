@@ -31,23 +31,24 @@ std::string secondsJson(const StageSeconds& t) {
 
 // The "segments" object of a whole-image conversion.
 void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report, int totalPatches) {
-    const ConvertReport& cr = report.convert;
-    const SegmentStats& st = report.segmentation;
-    s << ",\n  \"segments\": {\"count\": " << cr.regions.size()
-      << ", \"graph_regions\": " << st.fhRegions << ", \"grabcut_changed\": " << st.grabCutChanged
-      << ", \"border_refined\": " << st.borderRefined
-      << ", \"grown\": " << st.grown << ", \"merged\": " << st.merged
-      << ", \"failed\": " << report.failedRegions
-      << ", \"holes_filled\": " << report.filledRegions
+    const ConvertReport& convertReport = report.convert;
+    const SegmentStats& segmentation = report.segmentation;
+    s << ",\n  \"segments\": {\"count\": " << convertReport.regions.size()
+      << ", \"graph_regions\": " << segmentation.fhRegions
+      << ", \"grabcut_changed\": " << segmentation.grabCutChanged
+      << ", \"border_refined\": " << segmentation.borderRefined
+      << ", \"grown\": " << segmentation.grown << ", \"merged\": " << segmentation.merged
+      << ", \"failed\": " << report.failedRegions << ", \"holes_filled\": " << report.filledRegions
       << ", \"thin_parts_apart\": " << report.trimmedRegions
       << ", \"split_at_necks\": " << report.splitRegions
       << ", \"base_patches\": " << report.basePatches
       << ", \"region_uncovered\": " << num(report.regionUncovered)
-      << ", \"total_patches\": " << totalPatches
-      << ", \"conversions\": " << report.conversions
+      << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions
       << ",\n    \"seconds\": {\"segmentation\": " << num(report.segmentSeconds)
-      << ", \"graph\": " << num(st.fhSeconds) << ", \"grabcut\": " << num(st.grabCutSeconds)
-      << ", \"grow\": " << num(st.growSeconds) << ", \"merge\": " << num(st.mergeSeconds)
+      << ", \"graph\": " << num(segmentation.fhSeconds)
+      << ", \"grabcut\": " << num(segmentation.grabCutSeconds)
+      << ", \"grow\": " << num(segmentation.growSeconds)
+      << ", \"merge\": " << num(segmentation.mergeSeconds)
       << ", \"regions\": " << num(report.regionsSeconds)
       << ", \"convert_wall\": " << num(report.convertSeconds)
       << ", \"measure\": " << num(report.measureSeconds)
@@ -58,8 +59,8 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
 
 // Region k's entry of "regions".
 void writeRegionJson(std::ostringstream& s, const SegmentConvertReport& report, bool segment, size_t k) {
-    const ConvertReport& cr = report.convert;
-    const RegionReport& r = cr.regions[k];
+    const ConvertReport& convertReport = report.convert;
+    const RegionReport& r = convertReport.regions[k];
     s << (k ? "," : "") << "\n    {\"pixels\": " << r.pixels << ", \"holes\": " << r.holes;
     if (segment)
         s << ", \"label\": " << report.regionLabels[k]
@@ -131,19 +132,23 @@ std::string jsonNumber(double v) {
 
 std::string conversionReportJson(const ReportFacts& facts, const SegmentConvertReport& report,
                                  const CompactFile& compact) {
-    const ConvertReport& cr = report.convert;
+    const ConvertReport& convertReport = report.convert;
     std::ostringstream s;
-    s << "{\n  \"input\": " << jsonString(facts.input) << ",\n  \"output\": " << jsonString(facts.output)
-      << ",\n  \"width\": " << facts.width << ",\n  \"height\": " << facts.height
-      << ",\n  \"mask_source\": " << jsonString(cr.maskSource)
+    s << "{\n  \"input\": " << jsonString(facts.input)
+      << ",\n  \"output\": " << jsonString(facts.output) << ",\n  \"width\": " << facts.width
+      << ",\n  \"height\": " << facts.height
+      << ",\n  \"mask_source\": " << jsonString(convertReport.maskSource)
       << ",\n  \"colors\": " << jsonString(colorModeName(facts.colors))
-      << ",\n  \"max_error\": " << num(facts.maxError) << ",\n  \"max_patches\": " << facts.maxPatches
-      << ",\n  \"seconds\": " << secondsJson(cr.seconds) << ",\n  \"io_seconds\": {\"read\": "
-      << num(facts.readSeconds) << ", \"mask\": " << num(facts.maskSeconds) << ", \"write\": "
-      << num(facts.writeSeconds) << ", \"end_to_end\": " << num(facts.endToEndSeconds) << "}"
-      << ",\n  \"meshes\": " << facts.meshes << ",\n  \"patches\": " << cr.patches
-      << ",\n  \"error\": " << errorJson(cr.error) << ",\n  \"bytes\": {\"output\": "
-      << facts.outputBytes << ", \"gmb_lossless\": " << facts.gmbLosslessBytes
+      << ",\n  \"max_error\": " << num(facts.maxError)
+      << ",\n  \"max_patches\": " << facts.maxPatches
+      << ",\n  \"seconds\": " << secondsJson(convertReport.seconds)
+      << ",\n  \"io_seconds\": {\"read\": " << num(facts.readSeconds)
+      << ", \"mask\": " << num(facts.maskSeconds) << ", \"write\": " << num(facts.writeSeconds)
+      << ", \"end_to_end\": " << num(facts.endToEndSeconds) << "}"
+      << ",\n  \"meshes\": " << facts.meshes << ",\n  \"patches\": " << convertReport.patches
+      << ",\n  \"error\": " << errorJson(convertReport.error)
+      << ",\n  \"bytes\": {\"output\": " << facts.outputBytes
+      << ", \"gmb_lossless\": " << facts.gmbLosslessBytes
       << ", \"gmb_compact\": " << compact.bytes.size() << ", \"svg\": ";
     if (facts.exactSvgBytes)
         s << *facts.exactSvgBytes << "}";
@@ -154,7 +159,8 @@ std::string conversionReportJson(const ReportFacts& facts, const SegmentConvertR
       << ", \"error\": " << errorJson(compact.error) << "}";
     if (facts.segment) writeSegmentsJson(s, report, facts.totalPatches);
     s << ",\n  \"regions\": [";
-    for (size_t k = 0; k < cr.regions.size(); ++k) writeRegionJson(s, report, facts.segment, k);
+    for (size_t k = 0; k < convertReport.regions.size(); ++k)
+        writeRegionJson(s, report, facts.segment, k);
     s << "\n  ]\n}\n";
     return s.str();
 }

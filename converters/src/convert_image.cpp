@@ -87,7 +87,7 @@ struct RegionGeometry {
     RegionCorners corners;
     std::shared_ptr<const RegionMaps> maps;  // the grid builder refers to its triangulation
     std::unique_ptr<GridBuilder> grid;
-    GridOptions go;
+    GridOptions gridOptions;
     BoundaryFitResult fitted;
     int foldedPatches = 0;        // of the boundary-fitted grid
     bool featureMapUsed = true;   // false: the grid follows the topology map
@@ -128,158 +128,203 @@ RegionMapCache::RegionMapCache() : impl_(std::make_unique<Impl>()) {}
 RegionMapCache::~RegionMapCache() = default;
 
 namespace {
+// The budget-independent maps of one choice of corners: from the cache when it has them, else
+// built (their times into `seconds`) and left in it.
+std::shared_ptr<const RegionMaps> regionMaps(const RgbaImage& image, const Region& region,
+                                             const ConvertOptions& options,
+                                             const RegionCorners& corners, RegionMapCache* cache,
+                                             StageSeconds& seconds) {
+    if (cache)
+        if (std::shared_ptr<const RegionMaps> kept = cache->impl().find(corners.index)) return kept;
+    auto maps = std::make_shared<RegionMaps>();
+    maps->corners = corners.index;
+    TriangulateOptions triangulateOptions;
+    // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
+    // 4096² object needs no finer triangulation than a 1024² one.
+    triangulateOptions.sampleFraction = std::min(
+        options.sampleFraction, double(options.maxSamples) / std::max(1, region.pixelCount));
+    auto t0 = Clock::now();
+    maps->tri = triangulateRegion(image, region, corners, triangulateOptions);
+    seconds.triangulate = since(t0);
+    t0 = Clock::now();
+    maps->topo = buildTopologyMapRefining(maps->tri, corners.px, corners.py);
+    seconds.topology = since(t0);
+
+    t0 = Clock::now();
+    FeatureMapOptions featureOptions;
+    featureOptions.mask = &region.mask;  // the outline against the background is not a feature
+    maps->feature = buildFeatureMap(maps->tri, maps->topo.map, image, featureOptions);
+    seconds.feature = since(t0);
+    if (const int flips = countFlippedTriangles(maps->tri, maps->feature.map); flips != 0)
+        throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
+    if (cache) cache->impl().keep(maps);
+    return maps;
+}
+
+// A grid through one map, its boundary fitted to the outline.
+struct GridCandidate {
+    std::unique_ptr<GridBuilder> grid;
+    GridOptions gridOptions;
+    BoundaryFitResult fitted;
+    int folded = 0;
+};
+
+// The boundary-fitted grid through the feature map, or through the topology map when that one
+// folds fewer patches.
+class GridChooser {
+public:
+    GridChooser(const RegionMaps& maps, const ConvertOptions& options, const RegionCorners& corners)
+        : maps_(maps), options_(options) {
+        // The initial grid takes at most a quarter of the patch budget: the rest is for the
+        // outline and the colours.
+        base_.targetPatchSize =
+            std::max(options.targetPatchSize,
+                     std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
+        for (const SlitInfo& slit : maps.topo.slits)
+            base_.slits.push_back({slit.v, slit.u0, slit.u1});
+        boundaryOptions_.maxPatches = options.maxPatches;
+        boundaryOptions_.tolerance = options.outlineTolerance;
+        boundaryOptions_.holeTolerance = options.holeTolerance;
+    }
+
+    // Stretch minimisation can bend the iso-curves more than cubic patches between the knots
+    // follow (thin limbs of a silhouette): their patches fold. The topology map's iso-curves
+    // are smoother; its grid is kept when it folds less. It is needed only when the feature
+    // map's grid folds, so it is built beside that one when a core is free (object mode), after
+    // it otherwise (regions converted in parallel). `featureMapUsed` says which is returned.
+    GridCandidate choose(bool& featureMapUsed) const {
+        featureMapUsed = true;
+        std::future<GridCandidate> topology;
+        if (options_.threads != 1 && std::thread::hardware_concurrency() > 1)
+            topology = std::async(std::launch::async, [this] { return candidate(maps_.topo.map); });
+        GridCandidate best = candidate(maps_.feature.map);
+        if (best.folded > 0) {
+            GridCandidate other = topology.valid() ? topology.get() : candidate(maps_.topo.map);
+            if (other.folded < best.folded) {
+                best = std::move(other);
+                featureMapUsed = false;
+            }
+        }
+        return best;
+    }
+
+private:
+    GridCandidate candidate(const ParamMap& map) const {
+        GridCandidate c{std::make_unique<GridBuilder>(maps_.tri, map), base_, {}, 0};
+        c.fitted = fitBoundary(*c.grid, c.gridOptions, boundaryOptions_);
+        coverOutline(*c.grid, c.gridOptions, c.fitted, options_.outlineCover,
+                     options_.outlineTolerance);
+        c.folded = countFoldedPatches(c.grid->build(c.gridOptions));
+        return c;
+    }
+
+    const RegionMaps& maps_;
+    const ConvertOptions& options_;
+    GridOptions base_;
+    BoundaryFitOptions boundaryOptions_;
+};
+
 std::unique_ptr<RegionGeometry> buildGeometry(const RgbaImage& image, const Region& region,
                                               const ConvertOptions& options,
-                                              const RegionCorners& corners,
-                                              RegionMapCache* cache) {
-    auto g = std::make_unique<RegionGeometry>();
-    g->corners = corners;
-    g->maps = cache ? cache->impl().find(corners.index) : nullptr;
-    if (!g->maps) {
-        auto maps = std::make_shared<RegionMaps>();
-        maps->corners = corners.index;
-        TriangulateOptions to;
-        // Large regions get at most maxSamples samples: the maps' solves grow with them, and a
-        // 4096² object needs no finer triangulation than a 1024² one.
-        to.sampleFraction = std::min(options.sampleFraction,
-                                     double(options.maxSamples) / std::max(1, region.pixelCount));
-        auto t0 = Clock::now();
-        maps->tri = triangulateRegion(image, region, corners, to);
-        g->seconds.triangulate = since(t0);
-        t0 = Clock::now();
-        maps->topo = buildTopologyMapRefining(maps->tri, corners.px, corners.py);
-        g->seconds.topology = since(t0);
+                                              const RegionCorners& corners, RegionMapCache* cache) {
+    auto geometry = std::make_unique<RegionGeometry>();
+    geometry->corners = corners;
+    geometry->maps = regionMaps(image, region, options, corners, cache, geometry->seconds);
+    const auto t0 = Clock::now();
+    GridCandidate best =
+        GridChooser(*geometry->maps, options, corners).choose(geometry->featureMapUsed);
+    geometry->grid = std::move(best.grid);
+    geometry->gridOptions = std::move(best.gridOptions);
+    geometry->fitted = best.fitted;
+    geometry->foldedPatches = best.folded;
+    geometry->seconds.mesh = since(t0);
+    return geometry;
+}
+}  // namespace
 
-        t0 = Clock::now();
-        FeatureMapOptions fo;
-        fo.mask = &region.mask;  // the outline against the background is not a feature
-        maps->feature = buildFeatureMap(maps->tri, maps->topo.map, image, fo);
-        g->seconds.feature = since(t0);
-        if (const int flips = countFlippedTriangles(maps->tri, maps->feature.map); flips != 0)
-            throw Error("the parameterisation folded " + std::to_string(flips) + " triangles");
-        g->maps = std::move(maps);
-        if (cache) cache->impl().keep(g->maps);
-    }
-    const RegionMaps& maps = *g->maps;
-
+namespace {
+// Fallbacks 1 and 2 of fallbackAfter's list: the region's geometry with its first corners, or
+// with the corners at its sharpest tips (thin parts should end at corners) when the first
+// squeeze, or when the boundary fit stays farther than retryDeviation from the outline and
+// the tips' fit is closer (tails and fins between two corners need many knots).
+std::unique_ptr<RegionGeometry> geometryWithBestCorners(const RgbaImage& image,
+                                                        const Region& region,
+                                                        const ConvertOptions& options,
+                                                        RegionReport& report,
+                                                        RegionMapCache* cache) {
     auto t0 = Clock::now();
-    // The initial grid takes at most a quarter of the patch budget: the rest is for the
-    // outline and the colours.
-    GridOptions base;
-    base.targetPatchSize =
-        std::max(options.targetPatchSize,
-                 std::sqrt(corners.px * corners.py / std::max(1.0, options.maxPatches / 4.0)));
-    for (const SlitInfo& slit : maps.topo.slits) base.slits.push_back({slit.v, slit.u0, slit.u1});
-    BoundaryFitOptions bf;
-    bf.maxPatches = options.maxPatches;
-    bf.tolerance = options.outlineTolerance;
-    bf.holeTolerance = options.holeTolerance;
-    struct Candidate {
-        std::unique_ptr<GridBuilder> grid;
-        GridOptions go;
-        BoundaryFitResult fitted;
-        int folded = 0;
+    const RegionCorners first = findCorners(region);
+    report.seconds.corners = since(t0);
+    auto tipCorners = [&] {
+        t0 = Clock::now();
+        const RegionCorners tips = findTipCorners(region);
+        report.seconds.corners += since(t0);
+        return tips;
     };
-    auto candidate = [&](const ParamMap& map) {
-        Candidate c{std::make_unique<GridBuilder>(maps.tri, map), base, {}, 0};
-        c.fitted = fitBoundary(*c.grid, c.go, bf);
-        coverOutline(*c.grid, c.go, c.fitted, options.outlineCover, options.outlineTolerance);
-        c.folded = countFoldedPatches(c.grid->build(c.go));
-        return c;
-    };
-    // Stretch minimisation can bend the iso-curves more than cubic patches between the knots
-    // follow (thin limbs of a silhouette): their patches fold. The topology map's iso-curves are
-    // smoother; its grid is kept when it folds less. It is needed only when the feature map's
-    // grid folds, so it is built beside that one when a core is free (object mode), after it
-    // otherwise (regions converted in parallel).
-    std::future<Candidate> topology;
-    if (options.threads != 1 && std::thread::hardware_concurrency() > 1)
-        topology = std::async(std::launch::async, candidate, std::cref(maps.topo.map));
-    Candidate best = candidate(maps.feature.map);
-    if (best.folded > 0) {
-        Candidate other = topology.valid() ? topology.get() : candidate(maps.topo.map);
-        if (other.folded < best.folded) {
-            best = std::move(other);
-            g->featureMapUsed = false;
-        }
+    std::unique_ptr<RegionGeometry> geometry;
+    try {
+        geometry = buildGeometry(image, region, options, first, cache);
+    } catch (const SqueezeError&) {
+        const RegionCorners tips = tipCorners();
+        if (tips.index == first.index) throw;
+        geometry = buildGeometry(image, region, options, tips, cache);
+        report.tipCorners = true;
     }
-    g->grid = std::move(best.grid);
-    g->go = std::move(best.go);
-    g->fitted = best.fitted;
-    g->foldedPatches = best.folded;
-    g->seconds.mesh = since(t0);
-    return g;
+    report.seconds += geometry->seconds;
+    const bool retry = !report.tipCorners &&
+                       geometry->fitted.maxDeviation > options.retryDeviation &&
+                       region.pixelCount <= options.retryMaxPixels;
+    if (!retry) return geometry;
+    const RegionCorners tips = tipCorners();
+    if (tips.index == first.index) return geometry;
+    try {
+        std::unique_ptr<RegionGeometry> other = buildGeometry(image, region, options, tips, cache);
+        report.seconds += other->seconds;  // both attempts count
+        if (other->fitted.maxDeviation < geometry->fitted.maxDeviation) {
+            geometry = std::move(other);
+            report.tipCorners = true;
+        }
+    } catch (const MapError&) {
+        // The tips do not map: keep the first geometry.
+    }
+    return geometry;
 }
 }  // namespace
 
 GradientMesh convertRegion(const RgbaImage& image, const Region& region,
-                           const ConvertOptions& options, RegionReport& rr,
+                           const ConvertOptions& options, RegionReport& report,
                            RegionMapCache* cache) {
-    rr = RegionReport{};
-    rr.pixels = region.pixelCount;
-    rr.holes = static_cast<int>(region.holes.size());
-    auto t0 = Clock::now();
-    const RegionCorners first = findCorners(region);
-    rr.seconds.corners = since(t0);
+    report = RegionReport{};
+    report.pixels = region.pixelCount;
+    report.holes = static_cast<int>(region.holes.size());
+    const std::unique_ptr<RegionGeometry> geometry =
+        geometryWithBestCorners(image, region, options, report, cache);
+    const RegionMaps& maps = *geometry->maps;
+    report.triangles = static_cast<int>(maps.tri.triangles.size());
+    report.vertices = static_cast<int>(maps.tri.vertices.size());
+    report.mapRefinedVertices = maps.topo.stats.refinedVertices;
+    report.featureSolves = maps.feature.solves;
+    report.flippedTriangles = 0;
+    report.outlineDeviation = geometry->fitted.maxDeviation;
+    report.outlineKnots = geometry->fitted.addedU + geometry->fitted.addedV;
+    report.featureMapUsed = geometry->featureMapUsed;
 
-    // Corners at the region's sharpest tips are the second choice: when the first squeezes a
-    // thin part (thin parts should end at corners), or when the patch budget runs out before
-    // the boundary follows the outline (tails and fins between two corners need many knots).
-    std::unique_ptr<RegionGeometry> g;
-    try {
-        g = buildGeometry(image, region, options, first, cache);
-    } catch (const SqueezeError&) {
-        t0 = Clock::now();
-        const RegionCorners tips = findTipCorners(region);
-        rr.seconds.corners += since(t0);
-        if (tips.index == first.index) throw;
-        g = buildGeometry(image, region, options, tips, cache);
-        rr.tipCorners = true;
-    }
-    rr.seconds += g->seconds;
-    if (!rr.tipCorners && g->fitted.maxDeviation > options.retryDeviation &&
-        region.pixelCount <= options.retryMaxPixels) {
-        t0 = Clock::now();
-        const RegionCorners tips = findTipCorners(region);
-        rr.seconds.corners += since(t0);
-        if (tips.index != first.index) {
-            try {
-                std::unique_ptr<RegionGeometry> other =
-                    buildGeometry(image, region, options, tips, cache);
-                rr.seconds += other->seconds;  // both attempts count
-                if (other->fitted.maxDeviation < g->fitted.maxDeviation) {
-                    g = std::move(other);
-                    rr.tipCorners = true;
-                }
-            } catch (const MapError&) {
-                // The tips do not map: keep the first geometry.
-            }
-        }
-    }
-    rr.triangles = static_cast<int>(g->maps->tri.triangles.size());
-    rr.vertices = static_cast<int>(g->maps->tri.vertices.size());
-    rr.mapRefinedVertices = g->maps->topo.stats.refinedVertices;
-    rr.featureSolves = g->maps->feature.solves;
-    rr.flippedTriangles = 0;
-    rr.outlineDeviation = g->fitted.maxDeviation;
-    rr.outlineKnots = g->fitted.addedU + g->fitted.addedV;
-    rr.featureMapUsed = g->featureMapUsed;
+    const auto t0 = Clock::now();
+    RefineOptions refineOptions;
+    refineOptions.maxError = options.maxError;
+    refineOptions.maxPatches = options.maxPatches;
+    refineOptions.color.mode = options.colors;
+    refineOptions.color.threads = options.threads;
+    RefineResult refined =
+        refineMesh(*geometry->grid, geometry->gridOptions, image, region, refineOptions);
+    report.seconds.mesh += since(t0);
 
-    t0 = Clock::now();
-    RefineOptions rf;
-    rf.maxError = options.maxError;
-    rf.maxPatches = options.maxPatches;
-    rf.color.mode = options.colors;
-    rf.color.threads = options.threads;
-    RefineResult refined = refineMesh(*g->grid, g->go, image, region, rf);
-    rr.seconds.mesh += since(t0);
-
-    rr.columns = refined.mesh.columns();
-    rr.rows = refined.mesh.rows();
-    rr.patches = refined.mesh.patchCount();
-    rr.error = refined.error;
-    rr.refinement = refined.steps;
-    rr.foldedPatches = countFoldedPatches(refined.mesh);
+    report.columns = refined.mesh.columns();
+    report.rows = refined.mesh.rows();
+    report.patches = refined.mesh.patchCount();
+    report.error = refined.error;
+    report.refinement = refined.steps;
+    report.foldedPatches = countFoldedPatches(refined.mesh);
     return std::move(refined.mesh);
 }
 
@@ -302,8 +347,9 @@ FitError measureMeshes(const std::vector<GradientMesh>& meshes, const RgbaImage&
 // The region's hole pixels (background not 4-connected to the image border, as regions.cpp
 // finds holes) and how many of them `meshes` paint (alpha ≥ 0.5). One render, only for regions
 // with holes.
-void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region, RegionReport& rr) {
-    rr.holePixels = rr.holePixelsPainted = 0;
+void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
+                  RegionReport& report) {
+    report.holePixels = report.holePixelsPainted = 0;
     if (region.holes.empty()) return;
     const int w = region.width, h = region.height;
     std::vector<uint8_t> outside(region.mask.size(), 0);
@@ -329,75 +375,167 @@ void measureHoles(const std::vector<GradientMesh>& meshes, const Region& region,
     const RgbaImage render = renderMeshes(meshes, w, h);
     for (size_t k = 0; k < outside.size(); ++k) {
         if (region.mask[k] || outside[k]) continue;
-        ++rr.holePixels;
-        if (render.pixels[k * 4 + 3] >= 0.5f) ++rr.holePixelsPainted;
+        ++report.holePixels;
+        if (render.pixels[k * 4 + 3] >= 0.5f) ++report.holePixelsPainted;
     }
 }
 
-// The last resort for a piece that no map handles, not even in parts (a network of thin
-// leaves, a thin ring with branches): cut across the longer side of its bounding box, each
-// 8-connected component of each half its own mesh reaching a pixel under the rest of the
-// piece; a component that fails too is cut again, up to kMaxTileDepth times. Components under
-// 16 px are left to their neighbours' overlap; what still fails is reported as left uncovered.
-// Meshes and reports are appended, `part` saying "tile".
+// ---------------------------------------------------------------------------------------
+// Fallbacks: which applies when, and why. docs/design.md §3 ("Fallbacks") has the same list as
+// a table, numbered alike:
+//  1. the first corners' map squeezes: corners at the sharpest tips    (geometryWithBestCorners)
+//  2. the outline is missed by more than retryDeviation: the tips too  (geometryWithBestCorners)
+//  3. a region's map fails: in parts                                    (fallbackAfter)
+//  4. a region converted whole still misses its outline: parts too     (preferPartsForOutline)
+//  5. a thin part's map fails: that part in parts, once                 (fallbackAfter)
+//  6. a piece fails even in parts: in tiles, up to kMaxTileDepth deep   (fallbackAfter)
+//  7. a tile still fails: left uncovered and reported                   (fallbackAfter)
+// 1, 2 and 4 choose between results; 3, 5, 6 and 7 follow a map that fails (MapError), and
+// fallbackAfter alone decides which. Any other error leaves a thin part or a tile uncovered
+// (reported) and fails a region.
+
+// What is being converted.
+enum class Piece {
+    Region,    // a region of the object mask (convertImage)
+    ThinPart,  // a piece a region's core left out (convertThinParts)
+    Tile,      // a component of half a piece cut in two (convertInTiles)
+};
+
+// How a piece is converted.
+enum class Strategy {
+    Whole,          // one mesh (convertRegion)
+    InParts,        // its core without the thin parts, and each thin part (convertInParts)
+    InTiles,        // cut in halves, each half's components their own meshes (convertInTiles)
+    LeftUncovered,  // no mesh: a report says which pixels and why
+    Refused,        // no mesh: the conversion fails with the whole piece's error
+};
+
+// A piece cut in tiles is cut again at most this many times.
 constexpr int kMaxTileDepth = 6;
+
+// What is tried after `failed` throws MapError for `piece`; `depth` counts how many times the
+// piece's ancestors were converted in parts (thin parts) or cut in halves (tiles).
+Strategy fallbackAfter(Piece piece, Strategy failed, int depth) {
+    switch (piece) {
+        case Piece::Region:
+            // 3. One map cannot unfold a region with thin limbs, or with holes bridged to the
+            // outline by thin parts. When even its parts fail, the whole's error stands: it says
+            // what to change (--min-hole, ...).
+            return failed == Strategy::Whole ? Strategy::InParts : Strategy::Refused;
+        case Piece::ThinPart:
+            // 5. The same reason one level down, once. 6. A network of thin leaves (or a thin
+            // ring with branches) has no usable core: tiles.
+            return failed == Strategy::Whole && depth == 0 ? Strategy::InParts : Strategy::InTiles;
+        case Piece::Tile:
+            // 6. Smaller tiles map more easily. 7. Never silently: what still fails is reported.
+            return depth + 1 < kMaxTileDepth ? Strategy::InTiles : Strategy::LeftUncovered;
+    }
+    return Strategy::Refused;
+}
+
+RegionReport leftUncoveredReport(int pixels, const std::string& part) {
+    RegionReport report;
+    report.pixels = pixels;
+    report.part = part;
+    return report;
+}
+
+// Appends `from` to `to`, each report's part prefixed.
+void appendReports(std::vector<RegionReport>& to, std::vector<RegionReport>& from,
+                   const std::string& prefix) {
+    for (RegionReport& r : from) r.part = prefix + r.part;
+    to.insert(to.end(), from.begin(), from.end());
+}
+
+// The pixels of `piece` in one half of its bounding box (cut across its longer side), each
+// 8-connected component of at least 16 px its own region; none when the half has none.
+std::vector<Region> halfOfPiece(const Region& piece, const PixelBox& box, int half,
+                                const ConvertOptions& options) {
+    const int w = piece.width, h = piece.height;
+    const bool cutX = box.x1 - box.x0 >= box.y1 - box.y0;
+    const int cut = cutX ? (box.x0 + box.x1 + 1) / 2 : (box.y0 + box.y1 + 1) / 2;  // half 2 from
+    std::vector<uint8_t> bits(piece.mask.size(), 0);
+    for (int y = box.y0; y <= box.y1; ++y)
+        for (int x = box.x0; x <= box.x1; ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            const bool second = (cutX ? x : y) >= cut;
+            bits[k] = piece.mask[k] && second == (half == 1);
+        }
+    RegionOptions regionOptions;
+    regionOptions.minArea = 16;
+    regionOptions.minHole = options.minHole;
+    regionOptions.outerLevel = options.outerLevel;
+    try {
+        return extractRegions(coverageFromBits(w, h, bits), regionOptions);
+    } catch (const Error&) {
+        return {};  // nothing in this half, or only specks under 16 px
+    }
+}
+
+// Fallback 6, the last resort for a piece that no map handles, not even in parts: cut across
+// the longer side of its bounding box, each 8-connected component of each half its own mesh
+// reaching a pixel under the rest of the piece; a component that fails is cut again or left
+// uncovered as fallbackAfter says. Components under 16 px are left to their neighbours'
+// overlap. Meshes and reports are appended, `part` saying "tile".
 void convertInTiles(const RgbaImage& image, const Region& piece, const ConvertOptions& options,
                     const PartsBeneath& beneath, std::vector<GradientMesh>& meshes,
                     std::vector<RegionReport>& reports, const std::string& reason, int depth = 0) {
-    const int w = piece.width, h = piece.height;
-    const PixelBox box = maskBounds(piece.mask, w, h);
-    const int x0 = box.x0, y0 = box.y0, x1 = box.x1, y1 = box.y1;
-    auto leftUncovered = [&](int pixels, const std::string& why) {
-        RegionReport pr;
-        pr.pixels = pixels;
-        pr.part = "tile left uncovered: " + why;
-        reports.push_back(pr);
-    };
+    const PixelBox box = maskBounds(piece.mask, piece.width, piece.height);
     if (box.empty()) return;
-    if (depth >= kMaxTileDepth || (x1 == x0 && y1 == y0)) {
-        leftUncovered(piece.pixelCount, reason);
+    if (box.x1 == box.x0 && box.y1 == box.y0) {  // one pixel: nothing to cut
+        reports.push_back(leftUncoveredReport(piece.pixelCount, "tile left uncovered: " + reason));
         return;
     }
-    const bool cutX = x1 - x0 >= y1 - y0;
-    const int cut = cutX ? (x0 + x1 + 1) / 2 : (y0 + y1 + 1) / 2;  // first column/row of half 2
-    RegionOptions ro;
-    ro.minArea = 16;
-    ro.minHole = options.minHole;
-    ro.outerLevel = options.outerLevel;
     for (int half = 0; half < 2; ++half) {
-        std::vector<uint8_t> bits(piece.mask.size(), 0);
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const size_t k = static_cast<size_t>(y) * w + x;
-                const bool second = (cutX ? x : y) >= cut;
-                bits[k] = piece.mask[k] && second == (half == 1);
-            }
-        std::vector<Region> comps;
-        try {
-            comps = extractRegions(coverageFromBits(w, h, bits), ro);
-        } catch (const Error&) {
-            continue;  // nothing in this half, or only specks under 16 px
-        }
-        for (const Region& comp : comps) {
+        for (const Region& tile : halfOfPiece(piece, box, half, options)) {
             std::vector<uint8_t> rest(piece.mask.size());
             for (size_t k = 0; k < rest.size(); ++k)
-                rest[k] = (piece.mask[k] && !comp.mask[k]) || beneath.at(k);
-            RegionReport rr;
+                rest[k] = (piece.mask[k] && !tile.mask[k]) || beneath.at(k);
+            RegionReport tileReport;
             try {
-                meshes.push_back(convertRegion(image,
-                                               growRegionInto(comp, beneath.reach(), beneath.minHole,
-                                                              rest, options.outerLevel),
-                                               options, rr));
-                rr.part = "tile";
-                reports.push_back(rr);
+                meshes.push_back(
+                    convertRegion(image,
+                                  growRegionInto(tile, beneath.reach(), beneath.minHole, rest,
+                                                 options.outerLevel),
+                                  options, tileReport));
+                tileReport.part = "tile";
+                reports.push_back(tileReport);
             } catch (const MapError& e) {
-                convertInTiles(image, comp, options, beneath, meshes, reports, e.reason(),
-                               depth + 1);
+                if (fallbackAfter(Piece::Tile, Strategy::Whole, depth) == Strategy::InTiles)
+                    convertInTiles(image, tile, options, beneath, meshes, reports, e.reason(),
+                                   depth + 1);
+                else
+                    reports.push_back(
+                        leftUncoveredReport(tile.pixelCount, "tile left uncovered: " + e.reason()));
             } catch (const Error& e) {
-                leftUncovered(comp.pixelCount, e.reason());
+                reports.push_back(
+                    leftUncoveredReport(tile.pixelCount, "tile left uncovered: " + e.reason()));
             }
         }
     }
+}
+
+// A thin part whose map failed (`reason`): in parts or in tiles, as fallbackAfter says.
+void convertFailedThinPart(const RgbaImage& image, const Region& piece,
+                           const ConvertOptions& options, const PartsBeneath& beneath,
+                           std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
+                           int depth, std::string reason) {
+    if (fallbackAfter(Piece::ThinPart, Strategy::Whole, depth) == Strategy::InParts) {
+        std::vector<RegionReport> partReports;
+        try {
+            for (GradientMesh& m :
+                 convertInParts(image, piece, options, beneath, partReports, depth + 1))
+                meshes.push_back(std::move(m));
+            appendReports(reports, partReports, "thin part, ");
+            return;
+        } catch (const Error& e) {
+            // Whatever stopped the parts (fallbackAfter(ThinPart, InParts) is InTiles).
+            reason = e.reason();
+        }
+    }
+    std::vector<RegionReport> tileReports;
+    convertInTiles(image, piece, options, beneath, meshes, tileReports, reason);
+    appendReports(reports, tileReports, "thin part, ");
 }
 
 }  // namespace
@@ -406,50 +544,34 @@ void convertThinParts(const RgbaImage& image, const std::vector<uint8_t>& rest,
                       const ConvertOptions& options, const PartsBeneath& beneath,
                       std::vector<GradientMesh>& meshes, std::vector<RegionReport>& reports,
                       int depth) {
-    RegionOptions ro;
-    ro.minArea = 16;
-    ro.minHole = options.minHole;
-    ro.outerLevel = options.outerLevel;
+    RegionOptions regionOptions;
+    regionOptions.minArea = 16;
+    regionOptions.minHole = options.minHole;
+    regionOptions.outerLevel = options.outerLevel;
     std::vector<Region> pieces;
     try {
-        pieces = extractRegions(coverageFromBits(image.width, image.height, rest), ro);
+        pieces = extractRegions(coverageFromBits(image.width, image.height, rest), regionOptions);
     } catch (const Error&) {
         return;  // nothing left, or every piece under 16 px
     }
     for (const Region& piece : pieces) {
-        RegionReport pr;
+        RegionReport partReport;
         try {
             meshes.push_back(convertRegion(
                 image,
                 beneath.under.empty() ? piece
                                       : growRegionInto(piece, beneath.reach(), beneath.minHole,
                                                        beneath.under, options.outerLevel),
-                options, pr));
-            pr.part = "thin part";
-        } catch (const MapError&) {
-            std::vector<RegionReport> sub;
-            try {
-                if (depth > 0) throw;
-                for (GradientMesh& m :
-                     convertInParts(image, piece, options, beneath, sub, depth + 1))
-                    meshes.push_back(std::move(m));
-                for (RegionReport& r : sub) r.part = "thin part, " + r.part;
-                reports.insert(reports.end(), sub.begin(), sub.end());
-                continue;
-            } catch (const Error& e2) {
-                // Not even in parts: in tiles.
-                std::vector<RegionReport> tiles;
-                convertInTiles(image, piece, options, beneath, meshes, tiles, e2.reason());
-                for (RegionReport& r : tiles) r.part = "thin part, " + r.part;
-                reports.insert(reports.end(), tiles.begin(), tiles.end());
-                continue;
-            }
+                options, partReport));
+            partReport.part = "thin part";
+            reports.push_back(partReport);
+        } catch (const MapError& e) {
+            convertFailedThinPart(image, piece, options, beneath, meshes, reports, depth,
+                                  e.reason());
         } catch (const Error& e) {
-            pr = RegionReport{};
-            pr.pixels = piece.pixelCount;
-            pr.part = "thin part left uncovered: " + e.reason();
+            reports.push_back(
+                leftUncoveredReport(piece.pixelCount, "thin part left uncovered: " + e.reason()));
         }
-        reports.push_back(pr);
     }
 }
 
@@ -461,12 +583,12 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
     for (const int radius : {2, 4, 7}) {
         reports.clear();
         std::vector<GradientMesh> meshes;
-        RegionOptions ro;
-        ro.minArea = 1;
-        ro.minHole = options.minHole;
-        ro.outerLevel = options.outerLevel;
+        RegionOptions regionOptions;
+        regionOptions.minArea = 1;
+        regionOptions.minHole = options.minHole;
+        regionOptions.outerLevel = options.outerLevel;
         const std::vector<uint8_t> core = openMask(region.mask, w, h, radius);
-        std::vector<Region> cores = extractRegions(coverageFromBits(w, h, core), ro);
+        std::vector<Region> cores = extractRegions(coverageFromBits(w, h, core), regionOptions);
         // The core must be most of the region: tiny holes everywhere (or a region that is all
         // thin parts) would leave shreds, worse than the refusal.
         if (cores.empty() || cores.front().pixelCount < region.pixelCount / 2) break;
@@ -475,18 +597,19 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
             rest[k] = region.mask[k] && !cores.front().mask[k];
             coreUnder[k] = rest[k] || beneath.at(k);
         }
-        RegionReport rr;
+        RegionReport coreReport;
         try {
-            meshes.push_back(convertRegion(image,
-                                           growRegionInto(cores.front(), beneath.reach(),
-                                                          beneath.minHole, coreUnder, options.outerLevel),
-                                           options, rr));
+            meshes.push_back(
+                convertRegion(image,
+                              growRegionInto(cores.front(), beneath.reach(), beneath.minHole,
+                                             coreUnder, options.outerLevel),
+                              options, coreReport));
         } catch (const MapError& e) {
             last = e.reason();
             continue;
         }
-        rr.part = "core";
-        reports.push_back(rr);
+        coreReport.part = "core";
+        reports.push_back(coreReport);
         // The thin parts (and whatever else the opening removed), each its own mesh on top.
         convertThinParts(image, rest, options, beneath, meshes, reports, depth);
         return meshes;
@@ -494,23 +617,91 @@ std::vector<GradientMesh> convertInParts(const RgbaImage& image, const Region& r
     throw MapError(last.empty() ? "no core left without the region's thin parts" : last);
 }
 
+namespace {
+// Fallback 4: a region converted whole whose outline is still farther than retryDeviation
+// (the budget ran out before the boundary followed fins and tails) is converted in parts too;
+// the parts replace the whole's mesh when they leave under half its uncovered pixels, raise E
+// by at most 10 % and keep every hole a hole of a mesh (an opening can cut the wall between a
+// hole and the outline: the hole would become a notch). Parts cover fins better than one
+// stretched grid.
+void preferPartsForOutline(const RgbaImage& image, const Region& region,
+                           const ConvertOptions& options, const PartsBeneath& beneath,
+                           std::vector<GradientMesh>& meshes,
+                           std::vector<RegionReport>& regionReports) {
+    std::vector<RegionReport> partReports;
+    try {
+        std::vector<GradientMesh> parts =
+            convertInParts(image, region, options, beneath, partReports);
+        int holes = 0;
+        for (const GradientMesh& m : parts) holes += m.holeCount();
+        const FitError whole = measureMeshes(meshes, image, region);
+        const FitError split = measureMeshes(parts, image, region);
+        if (holes == meshes.front().holeCount() && split.uncovered * 2 < whole.uncovered &&
+            split.meanAbs <= 1.1 * whole.meanAbs) {
+            partReports.front().seconds += regionReports[0].seconds;  // both count
+            meshes = std::move(parts);
+            regionReports = std::move(partReports);
+        } else {
+            for (const RegionReport& r : partReports) regionReports[0].seconds += r.seconds;
+        }
+    } catch (const Error&) {
+        // No parts: the whole region's mesh stays.
+    }
+}
+
+// One region of the object mask: whole, or as fallbackAfter says when its map fails, and
+// preferPartsForOutline. `regionReports` (one report on entry) gets one report per mesh.
+std::vector<GradientMesh> convertObjectRegion(const RgbaImage& image, const Region& region,
+                                              const ConvertOptions& options,
+                                              std::vector<RegionReport>& regionReports) {
+    PartsBeneath alone;  // object mode: parts reach under each other only
+    alone.minHole = options.minHole;
+    std::vector<GradientMesh> meshes;
+    try {
+        meshes.push_back(convertRegion(image, region, options, regionReports[0]));
+    } catch (const MapError& whole) {
+        if (fallbackAfter(Piece::Region, Strategy::Whole, 0) != Strategy::InParts) throw;
+        try {
+            meshes = convertInParts(image, region, options, alone, regionReports);
+        } catch (const MapError&) {
+            // fallbackAfter(Region, InParts) is Refused: the whole's error.
+            throw whole;
+        }
+    }
+    if (regionReports.size() == 1 && regionReports[0].outlineDeviation > options.retryDeviation &&
+        region.pixelCount <= options.retryMaxPixels)
+        preferPartsForOutline(image, region, options, alone, meshes, regionReports);
+    measureHoles(meshes, region, regionReports[0]);
+    return meshes;
+}
+
+// The regions' pixels: dropped specks and filled holes are not the object.
+ObjectMask regionPixels(const ObjectMask& mask, const std::vector<Region>& regions) {
+    ObjectMask measured = mask;
+    std::fill(measured.mask.begin(), measured.mask.end(), uint8_t(0));
+    for (const Region& region : regions)
+        for (size_t k = 0; k < region.mask.size(); ++k) measured.mask[k] |= region.mask[k];
+    return measured;
+}
+}  // namespace
+
 Document convertImage(const RgbaImage& image, const ObjectMask& mask, const ConvertOptions& options,
                       const std::string& imageName, ConvertReport* report) {
     ConvertReport local;
-    ConvertReport& rep = report ? *report : local;
-    rep = ConvertReport{};
-    rep.maskSource = maskSourceName(mask.source);
-    rep.width = image.width;
-    rep.height = image.height;
+    ConvertReport& convertReport = report ? *report : local;
+    convertReport = ConvertReport{};
+    convertReport.maskSource = maskSourceName(mask.source);
+    convertReport.width = image.width;
+    convertReport.height = image.height;
 
-    auto t0 = Clock::now();
-    RegionOptions ro;
-    ro.minArea = options.minArea;
-    ro.minHole = options.minHole;
-    ro.outerLevel = options.outerLevel;
+    const auto t0 = Clock::now();
+    RegionOptions regionOptions;
+    regionOptions.minArea = options.minArea;
+    regionOptions.minHole = options.minHole;
+    regionOptions.outerLevel = options.outerLevel;
     const std::vector<Region> regions =
-        extractRegions(coverageFromBits(mask.width, mask.height, mask.mask), ro);
-    rep.seconds.regions = since(t0);
+        extractRegions(coverageFromBits(mask.width, mask.height, mask.mask), regionOptions);
+    convertReport.seconds.regions = since(t0);
     if (regions.empty())
         throw Error("no region of at least " + std::to_string(options.minArea) +
                         " pixels in the object mask",
@@ -518,67 +709,24 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
-    PartsBeneath alone;  // object mode: parts reach under each other only
-    alone.minHole = options.minHole;
     for (const Region& region : regions) {
-        std::vector<RegionReport> rrs(1);
+        std::vector<RegionReport> regionReports(1);
         try {
-            std::vector<GradientMesh> meshes;
-            try {
-                meshes.push_back(convertRegion(image, region, options, rrs[0]));
-            } catch (const MapError& whole) {
-                try {
-                    meshes = convertInParts(image, region, options, alone, rrs);
-                } catch (const MapError&) {
-                    throw whole;  // its message says what to change (--min-hole, ...)
-                }
-            }
-            if (rrs.size() == 1 && rrs[0].outlineDeviation > options.retryDeviation &&
-                region.pixelCount <= options.retryMaxPixels) {
-                // The budget ran out before the boundary followed the outline (fins, tails):
-                // in parts, if that covers the region clearly better and keeps its holes.
-                std::vector<RegionReport> partReports;
-                try {
-                    std::vector<GradientMesh> parts =
-                        convertInParts(image, region, options, alone, partReports);
-                    // Only when every hole stays a hole of a mesh (an opening can cut the
-                    // wall between a hole and the outline: the hole would become a notch).
-                    int holes = 0;
-                    for (const GradientMesh& m : parts) holes += m.holeCount();
-                    const FitError whole = measureMeshes(meshes, image, region);
-                    const FitError split = measureMeshes(parts, image, region);
-                    if (holes == meshes.front().holeCount() && split.uncovered * 2 < whole.uncovered &&
-                        split.meanAbs <= 1.1 * whole.meanAbs) {
-                        partReports.front().seconds += rrs[0].seconds;  // both count
-                        meshes = std::move(parts);
-                        rrs = std::move(partReports);
-                    } else {
-                        for (const RegionReport& r : partReports) rrs[0].seconds += r.seconds;
-                    }
-                } catch (const Error&) {
-                    // No parts: the whole region's mesh stays.
-                }
-            }
-            measureHoles(meshes, region, rrs[0]);
-            for (GradientMesh& m : meshes) doc.meshes.push_back(std::move(m));
+            for (GradientMesh& m : convertObjectRegion(image, region, options, regionReports))
+                doc.meshes.push_back(std::move(m));
         } catch (const Error& e) {
             if (!e.file().empty()) throw;
-            throw Error("region " + std::to_string(rep.regions.size()) + " " + regionLabel(region) +
-                            ": " + e.reason(),
+            throw Error("region " + std::to_string(convertReport.regions.size()) + " " +
+                            regionLabel(region) + ": " + e.reason(),
                         imageName);
         }
-        for (RegionReport& rr : rrs) {
-            rep.patches += rr.patches;
-            rep.seconds += rr.seconds;
-            rep.regions.push_back(std::move(rr));
+        for (RegionReport& regionReport : regionReports) {
+            convertReport.patches += regionReport.patches;
+            convertReport.seconds += regionReport.seconds;
+            convertReport.regions.push_back(std::move(regionReport));
         }
     }
-    // Measured over the regions' pixels: dropped specks and filled holes are not the object.
-    ObjectMask measured = mask;
-    std::fill(measured.mask.begin(), measured.mask.end(), uint8_t(0));
-    for (const Region& region : regions)
-        for (size_t k = 0; k < region.mask.size(); ++k) measured.mask[k] |= region.mask[k];
-    rep.error = measure(doc, image, measured);
+    convertReport.error = measure(doc, image, regionPixels(mask, regions));
     return doc;
 }
 

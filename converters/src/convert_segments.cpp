@@ -84,31 +84,33 @@ double spillSse(const std::vector<GradientMesh>& meshes, const RgbaImage& image,
     own.meshes = meshes;
     std::vector<uint8_t> beneath(drawnAt.size());
     for (size_t p = 0; p < beneath.size(); ++p) beneath[p] = drawnAt[p] >= 0 && drawnAt[p] < k;
-    RenderOptions ro;
-    ro.threads = 1;
-    const FitError e = compareOverMask(image, renderDocument(own, ro).image, beneath);
+    RenderOptions renderOptions;
+    renderOptions.threads = 1;
+    const FitError e = compareOverMask(image, renderDocument(own, renderOptions).image, beneath);
     return e.rmse * e.rmse * double(e.pixels) * (1 - e.uncovered);
 }
 
 // The region's budget: its pixels / pixelsPerPatch within [minRegionPatches, maxPatches].
-ConvertOptions budgetFor(const Region& own, const ConvertOptions& coAll,
+ConvertOptions budgetFor(const Region& own, const ConvertOptions& sharedOptions,
                          const SegmentConvertOptions& options) {
-    ConvertOptions co = coAll;
+    ConvertOptions convertOptions = sharedOptions;
     if (options.pixelsPerPatch > 0)
-        co.maxPatches = std::clamp(static_cast<int>(own.pixelCount / options.pixelsPerPatch),
-                                   std::min(options.minRegionPatches, co.maxPatches), co.maxPatches);
-    return co;
+        convertOptions.maxPatches =
+            std::clamp(static_cast<int>(own.pixelCount / options.pixelsPerPatch),
+                       std::min(options.minRegionPatches, convertOptions.maxPatches),
+                       convertOptions.maxPatches);
+    return convertOptions;
 }
 
 // One region whole, reaching under `under` (the regions drawn later): Whole, or Failed with the
 // reason in `fallback`.
 RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
-                           const std::vector<uint8_t>& under, const ConvertOptions& co,
+                           const std::vector<uint8_t>& under, const ConvertOptions& convertOptions,
                            const SegmentConvertOptions& options, RegionMapCache* cache) {
     RegionOutcome out;
     try {
-        out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under), co,
-                                    out.report, cache)};
+        out.meshes = {convertRegion(image, growRegionInto(own, options.overlap, 0, under),
+                                    convertOptions, out.report, cache)};
         out.fate = RegionFate::Whole;
     } catch (const Error& e) {
         out.fallback = e.reason();
@@ -123,7 +125,8 @@ RegionOutcome convertWhole(const RgbaImage& image, const Region& own,
 // After convertWhole failed (`out`, its reason in out.fallback): the region with its holes
 // filled, then as its core plus its thin parts apart; else nothing (Failed).
 RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
-                               const std::vector<uint8_t>& under, const ConvertOptions& co,
+                               const std::vector<uint8_t>& under,
+                               const ConvertOptions& convertOptions,
                                const SegmentConvertOptions& options, RegionOutcome out) {
     std::string& why = out.fallback;
     if (!own.holes.empty()) {
@@ -132,7 +135,7 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
         try {
             out.meshes = {convertRegion(
                 image, growRegionInto(own, options.overlap, std::numeric_limits<int>::max(), under),
-                co, out.report)};
+                convertOptions, out.report)};
             out.fate = RegionFate::HolesFilled;
             why = "holes filled (" + why + ")";
             return out;
@@ -147,27 +150,28 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
     // pixel over the core.
     for (const int radius : {2, 5}) try {
         const std::vector<uint8_t> core = openMask(own.mask, own.width, own.height, radius);
-        RegionOptions ro;
-        ro.minArea = 16;
-        ro.minHole = std::numeric_limits<int>::max();
-        std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, core), ro);
-        if (rs.empty()) throw Error("nothing is left without its thin parts");
-        Region trimmed = growRegionInto(rs.front(), options.overlap, 0, under);
-        out.meshes = {convertRegion(image, trimmed, co, out.report)};
+        RegionOptions regionOptions;
+        regionOptions.minArea = 16;
+        regionOptions.minHole = std::numeric_limits<int>::max();
+        std::vector<Region> cores =
+            extractRegions(coverageFromBits(own.width, own.height, core), regionOptions);
+        if (cores.empty()) throw Error("nothing is left without its thin parts");
+        Region trimmed = growRegionInto(cores.front(), options.overlap, 0, under);
+        out.meshes = {convertRegion(image, trimmed, convertOptions, out.report)};
         out.fate = RegionFate::ThinPartsApart;
         std::vector<uint8_t> rest(own.mask.size());
         PartsBeneath beneath;
         beneath.under = under;
         beneath.overlap = options.overlap;
         for (size_t p = 0; p < rest.size(); ++p) {
-            rest[p] = own.mask[p] && !rs.front().mask[p];
-            beneath.under[p] = beneath.under[p] || rs.front().mask[p];
+            rest[p] = own.mask[p] && !cores.front().mask[p];
+            beneath.under[p] = beneath.under[p] || cores.front().mask[p];
         }
         std::vector<RegionReport> parts{out.report};
-        convertThinParts(image, rest, co, beneath, out.meshes, parts);
+        convertThinParts(image, rest, convertOptions, beneath, out.meshes, parts);
         out.report = mergePartReports(parts, own);
         why = "parts thinner than " + std::to_string(2 * radius + 1) + " px (" +
-              std::to_string(own.pixelCount - rs.front().pixelCount) + " px) as " +
+              std::to_string(own.pixelCount - cores.front().pixelCount) + " px) as " +
               std::to_string(out.meshes.size() - 1) + " meshes of their own: " + why;
         return out;
     } catch (const std::bad_alloc&) {
@@ -185,7 +189,8 @@ RegionOutcome convertFallbacks(const RgbaImage& image, const Region& own,
 }
 
 RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
-                                   const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                                   const std::vector<uint8_t>& under,
+                                   const ConvertOptions& sharedOptions,
                                    const SegmentConvertOptions& options, int depth,
                                    RegionMapCache* cache = nullptr);
 
@@ -197,15 +202,15 @@ double foldedAreaOf(const std::vector<GradientMesh>& meshes) {
 }
 
 // The region cut at `cut`, each side's pieces converted by convertSegmentRegion (side 1 drawn
-// first, reaching under side 2), sharing the region's budget co.maxPatches by their pixels;
-// SplitAtNecks, or Failed when nothing converted. `complete`: every piece converted.
+// first, reaching under side 2), sharing the region's budget convertOptions.maxPatches by their
+// pixels; SplitAtNecks, or Failed when nothing converted. `complete`: every piece converted.
 RegionOutcome convertSides(const RgbaImage& image, const Region& own,
-                           const std::vector<uint8_t>& under, const ConvertOptions& co,
+                           const std::vector<uint8_t>& under, const ConvertOptions& convertOptions,
                            const SegmentConvertOptions& options, int depth, const NeckCut& cut,
                            bool& complete) {
-    RegionOptions ro;
-    ro.minArea = 1;
-    ro.minHole = co.minHole;
+    RegionOptions regionOptions;
+    regionOptions.minArea = 1;
+    regionOptions.minHole = convertOptions.minHole;
     std::vector<RegionReport> parts;
     RegionOutcome split;
     std::vector<std::string> notes;
@@ -218,16 +223,16 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
         }
         std::vector<Region> pieces;
         try {
-            pieces = extractRegions(coverageFromBits(own.width, own.height, bits), ro);
+            pieces = extractRegions(coverageFromBits(own.width, own.height, bits), regionOptions);
         } catch (const Error&) {
             complete = false;
             continue;
         }
         for (const Region& piece : pieces) {
-            ConvertOptions share = co;
+            ConvertOptions share = convertOptions;
             share.maxPatches = std::max<int>(
-                1, static_cast<int>(std::lround(double(co.maxPatches) * piece.pixelCount /
-                                                std::max(1, own.pixelCount))));
+                1, static_cast<int>(std::lround(double(convertOptions.maxPatches) *
+                                                piece.pixelCount / std::max(1, own.pixelCount))));
             RegionOutcome sub = convertSegmentRegion(image, piece, beneath, share, options, depth + 1);
             for (GradientMesh& m : sub.meshes) split.meshes.push_back(std::move(m));
             if (!sub.converted()) {
@@ -260,12 +265,13 @@ RegionOutcome convertSides(const RgbaImage& image, const Region& own,
 // (convertFallbacks) are tried, and the better of those and the cut kept. `cache`: the
 // region's maps from its conversions at other budgets (RegionMapCache), for the whole.
 RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
-                                   const std::vector<uint8_t>& under, const ConvertOptions& coAll,
+                                   const std::vector<uint8_t>& under,
+                                   const ConvertOptions& sharedOptions,
                                    const SegmentConvertOptions& options, int depth,
                                    RegionMapCache* cache) {
-    const ConvertOptions co = budgetFor(own, coAll, options);
-    RegionOutcome out = convertWhole(image, own, under, co, options, cache);
-    const double target = co.maxError * options.neckErrorFactor;
+    const ConvertOptions convertOptions = budgetFor(own, sharedOptions, options);
+    RegionOutcome out = convertWhole(image, own, under, convertOptions, options, cache);
+    const double target = convertOptions.maxError * options.neckErrorFactor;
     const bool mayCut = depth < options.neckSplits && own.pixelCount >= options.neckMinPixels;
     // Folds matter where they paint over regions drawn before this one: the first region drawn
     // has none (whatever it spills over is painted again by the later ones).
@@ -279,7 +285,8 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
         cut = findNeck(own, options.neck);
     RegionOutcome split;
     bool complete = false;
-    if (cut) split = convertSides(image, own, under, co, options, depth, *cut, complete);
+    if (cut)
+        split = convertSides(image, own, under, convertOptions, options, depth, *cut, complete);
     auto take = [&](RegionOutcome& whole) {
         const double e = whole.report.error.meanAbs;
         const bool covers =
@@ -307,7 +314,8 @@ RegionOutcome convertSegmentRegion(const RgbaImage& image, const Region& own,
         split.fallback += split.sideNotes + "; whole: " + out.fallback;
         return split;
     }
-    RegionOutcome fallback = convertFallbacks(image, own, under, co, options, std::move(out));
+    RegionOutcome fallback =
+        convertFallbacks(image, own, under, convertOptions, options, std::move(out));
     return take(fallback);
 }
 
@@ -340,20 +348,20 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, Col
     all.height = image.height;
     all.mask.assign(static_cast<size_t>(image.width) * image.height, 1);
     all.pixelCount = image.width * image.height;
-    ColorOptions co;
-    co.threads = threads;
-    co.mode = mode;
-    return computeColors(m, image, all, co).mesh;
+    ColorOptions colorOptions;
+    colorOptions.threads = threads;
+    colorOptions.mode = mode;
+    return computeColors(m, image, all, colorOptions).mesh;
 }
 }  // namespace
 
 // (convert_segments.h)
-std::vector<RdPoint> paretoFront(std::vector<RdPoint> pts) {
-    std::sort(pts.begin(), pts.end(), [](const RdPoint& a, const RdPoint& b) {
+std::vector<RdPoint> paretoFront(std::vector<RdPoint> points) {
+    std::sort(points.begin(), points.end(), [](const RdPoint& a, const RdPoint& b) {
         return a.patches < b.patches || (a.patches == b.patches && a.sse < b.sse);
     });
     std::vector<RdPoint> front;
-    for (const RdPoint& p : pts)
+    for (const RdPoint& p : points)
         if (front.empty() || (p.patches > front.back().patches && p.sse < front.back().sse))
             front.push_back(p);
     return front;
@@ -363,8 +371,8 @@ std::vector<RdPoint> paretoFront(std::vector<RdPoint> pts) {
 std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts, int total) {
     const size_t n = fronts.size();
     std::vector<size_t> at(n, 0);
-    // Patches beyond each region's first point, in units of `unit` patches (rounded up, so
-    // that what is chosen always fits); `room` is what the total leaves for them.
+    // Patches beyond each region's first point, in units of `unit` patches (rounded up,
+    // segmentOptions that what is chosen always fits); `room` is what the total leaves for them.
     long first = 0, most = 0;
     for (const auto& f : fronts) {
         first += std::lround(f.front().patches);
@@ -379,8 +387,8 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     auto unitsOf = [unit](const std::vector<RdPoint>& f, size_t i) {
         return (std::lround(f[i].patches - f.front().patches) + unit - 1) / unit;
     };
-    // best[t]: the least summed error of the regions so far with at most t units beyond their
-    // first points; pick[k][t]: region k's point there.
+    // best[t]: the least summed error of the regions segmentOptions far with at most t units beyond
+    // their first points; pick[k][t]: region k's point there.
     const double inf = std::numeric_limits<double>::infinity();
     std::vector<double> best(static_cast<size_t>(cells), 0.0), next(best.size());
     std::vector<std::vector<uint16_t>> pick(n, std::vector<uint16_t>(best.size(), 0));
@@ -410,35 +418,37 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
 
 namespace {
 
-// The image's regions as the segmentation draws them; times and figures into rep.
+// The image's regions as the segmentation draws them; times and figures into segmentReport.
 std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertOptions& options,
                                    const std::string& imageName, Segmentation& seg,
-                                   SegmentConvertReport& rep) {
+                                   SegmentConvertReport& segmentReport) {
     auto t0 = Clock::now();
     try {
-        SegmentOptions so = options.segment;
-        if (so.threads == 0) so.threads = options.threads;
-        seg = segmentImage(image, so);
+        SegmentOptions segmentOptions = options.segment;
+        if (segmentOptions.threads == 0) segmentOptions.threads = options.threads;
+        seg = segmentImage(image, segmentOptions);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw Error("segmentation: " + e.reason(), imageName);
     }
-    rep.segmentation = seg.stats;
-    rep.segmentSeconds = since(t0);
+    segmentReport.segmentation = seg.stats;
+    segmentReport.segmentSeconds = since(t0);
 
     t0 = Clock::now();
-    RegionOptions ro;
-    ro.minArea = 1;
-    ro.minHole = options.convert.minHole;
-    std::vector<Region> regions = extractRegionsFromLabels(seg.width, seg.height, seg.labels, ro);
-    rep.regionsSeconds = since(t0);
-    rep.convert.seconds.regions = rep.segmentSeconds + rep.regionsSeconds;
+    RegionOptions regionOptions;
+    regionOptions.minArea = 1;
+    regionOptions.minHole = options.convert.minHole;
+    std::vector<Region> regions =
+        extractRegionsFromLabels(seg.width, seg.height, seg.labels, regionOptions);
+    segmentReport.regionsSeconds = since(t0);
+    segmentReport.convert.seconds.regions =
+        segmentReport.segmentSeconds + segmentReport.regionsSeconds;
     return regions;
 }
 
 // Converts regions of a whole image, several at once. Regions are drawn in their order
-// (largest first): a region reaches under the later ones only, so each pixel keeps the colour
-// of its own region and seams show the region beneath.
+// (largest first): a region reaches under the later ones only, segmentOptions each pixel keeps the
+// colour of its own region and seams show the region beneath.
 class RegionConverter {
 public:
     RegionConverter(const RgbaImage& image, const std::vector<Region>& regions,
@@ -467,11 +477,11 @@ public:
         const bool budgeted = options_.totalPatches > 0;
         parallelFor(static_cast<int>(jobs.size()), workers_, [&](int job, int) {
             const size_t w = static_cast<size_t>(job);
-            ConvertOptions co = convert_;
-            co.maxPatches = jobs[w].second;
+            ConvertOptions convertOptions = convert_;
+            convertOptions.maxPatches = jobs[w].second;
             const size_t k = jobs[w].first;
-            outcomes[w] = convertSegmentRegion(image_, regions_[k], drawnLater(k), co, options_, 0,
-                                               budgeted ? &caches_[k] : nullptr);
+            outcomes[w] = convertSegmentRegion(image_, regions_[k], drawnLater(k), convertOptions,
+                                               options_, 0, budgeted ? &caches_[k] : nullptr);
             if (budgeted && outcomes[w].converted())
                 outcomes[w].spill =
                     spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
@@ -501,7 +511,7 @@ private:
 std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
                                               const std::vector<Region>& regions,
                                               const SegmentConvertOptions& options,
-                                              SegmentConvertReport& rep) {
+                                              SegmentConvertReport& segmentReport) {
     const size_t n = regions.size();
     std::vector<std::pair<size_t, int>> jobs;
     long pixels = 0;
@@ -526,40 +536,41 @@ std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
     for (size_t w = 0; w < jobs.size(); ++w) tried[jobs[w].first].push_back(w);
     std::vector<std::vector<RdPoint>> curves(n);
     for (size_t k = 0; k < n; ++k) {
-        std::vector<RdPoint> pts;
+        std::vector<RdPoint> points;
         for (size_t w : tried[k]) {
             const RegionOutcome& o = outcomes[w];
             if (!o.converted()) continue;
             const double covered = double(o.report.error.pixels) * (1 - o.report.error.uncovered);
             // Its own pixels' error and what it does to the regions beneath: a mesh that folds
             // over a neighbour looks good on its own.
-            pts.push_back({double(o.report.patches),
-                           o.report.error.rmse * o.report.error.rmse * covered + o.spill, w});
+            points.push_back({double(o.report.patches),
+                              o.report.error.rmse * o.report.error.rmse * covered + o.spill, w});
         }
-        if (pts.empty()) pts.push_back({0, 0, tried[k].front()});  // left to the base mesh
-        curves[k] = paretoFront(std::move(pts));
+        if (points.empty()) points.push_back({0, 0, tried[k].front()});  // left to the base mesh
+        curves[k] = paretoFront(std::move(points));
     }
     const std::vector<size_t> pick = allotPatches(curves, options.totalPatches);
     std::vector<RegionOutcome> chosen(n);
     for (size_t k = 0; k < n; ++k) {
         const size_t w = curves[k][pick[k]].job;
-        rep.keptSpill.push_back(outcomes[w].converted() ? outcomes[w].spill : 0);
+        segmentReport.keptSpill.push_back(outcomes[w].converted() ? outcomes[w].spill : 0);
         chosen[k] = std::move(outcomes[w]);
         int most = 0;
         for (size_t v : tried[k]) most = std::max(most, jobs[v].second);
-        rep.largestBudget.push_back(most);
-        rep.keptBudget.push_back(jobs[w].second);
+        segmentReport.largestBudget.push_back(most);
+        segmentReport.keptBudget.push_back(jobs[w].second);
     }
-    rep.conversions = static_cast<int>(jobs.size());
+    segmentReport.conversions = static_cast<int>(jobs.size());
     return chosen;
 }
 
 // The document: the base mesh (coarse when every region converted), then every region's
-// meshes in drawing order; the regions' reports and fates counted into rep.
+// meshes in drawing order; the regions' reports and fates counted into segmentReport.
 Document assembleDocument(const RgbaImage& image, const std::vector<Region>& regions,
                           std::vector<RegionOutcome>& outcomes,
-                          const SegmentConvertOptions& options, SegmentConvertReport& rep) {
-    ConvertReport& cr = rep.convert;
+                          const SegmentConvertOptions& options,
+                          SegmentConvertReport& segmentReport) {
+    ConvertReport& convertReport = segmentReport.convert;
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
@@ -569,31 +580,31 @@ Document assembleDocument(const RgbaImage& image, const std::vector<Region>& reg
     GradientMesh base = baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
                                  options.convert.threads, options.convert.colors);
     const double baseSeconds = since(t0);
-    rep.basePatches = base.patchCount();
+    segmentReport.basePatches = base.patchCount();
     doc.meshes.push_back(std::move(base));
     for (size_t k = 0; k < regions.size(); ++k) {
         RegionOutcome& o = outcomes[k];
         if (o.converted())
             for (GradientMesh& m : o.meshes) doc.meshes.push_back(std::move(m));
-        rep.failedRegions += o.fate == RegionFate::Failed;
-        rep.filledRegions += o.fate == RegionFate::HolesFilled;
-        rep.trimmedRegions += o.fate == RegionFate::ThinPartsApart;
-        rep.splitRegions += o.fate == RegionFate::SplitAtNecks;
-        cr.patches += o.report.patches;
-        cr.seconds += o.report.seconds;
-        rep.regionLabels.push_back(regions[k].label);
-        rep.fallbacks.push_back(std::move(o.fallback));
-        cr.regions.push_back(std::move(o.report));
+        segmentReport.failedRegions += o.fate == RegionFate::Failed;
+        segmentReport.filledRegions += o.fate == RegionFate::HolesFilled;
+        segmentReport.trimmedRegions += o.fate == RegionFate::ThinPartsApart;
+        segmentReport.splitRegions += o.fate == RegionFate::SplitAtNecks;
+        convertReport.patches += o.report.patches;
+        convertReport.seconds += o.report.seconds;
+        segmentReport.regionLabels.push_back(regions[k].label);
+        segmentReport.fallbacks.push_back(std::move(o.fallback));
+        convertReport.regions.push_back(std::move(o.report));
     }
-    cr.seconds.mesh += baseSeconds;
-    cr.patches += rep.basePatches;
+    convertReport.seconds.mesh += baseSeconds;
+    convertReport.patches += segmentReport.basePatches;
     return doc;
 }
 
 // The error over every pixel, at region borders and inside, and the pixels no region mesh
 // covers (the document without its base mesh).
 void measureSegmented(const Document& doc, const RgbaImage& image, const std::vector<int>& labels,
-                      SegmentConvertReport& rep) {
+                      SegmentConvertReport& segmentReport) {
     const RenderResult full = renderDocument(doc, RenderOptions{});
     const size_t np = static_cast<size_t>(image.width) * image.height;
     std::vector<uint8_t> all(np, 1), border(np, 0), inner(np, 0);
@@ -606,15 +617,16 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
                            (y > 0 && labels[k - w] != l) || (y + 1 < h && labels[k + w] != l);
             (b ? border : inner)[k] = 1;
         }
-    rep.convert.error = compareOverMask(image, full.image, all);
-    rep.border = compareOverMask(image, full.image, border);
-    rep.interior = compareOverMask(image, full.image, inner);
+    segmentReport.convert.error = compareOverMask(image, full.image, all);
+    segmentReport.border = compareOverMask(image, full.image, border);
+    segmentReport.interior = compareOverMask(image, full.image, inner);
     Document regionsOnly = doc;
     regionsOnly.meshes.erase(regionsOnly.meshes.begin());
-    rep.regionUncovered =
+    segmentReport.regionUncovered =
         regionsOnly.meshes.empty()
             ? 1.0
-            : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all).uncovered;
+            : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all)
+                  .uncovered;
 }
 
 }  // namespace
@@ -622,34 +634,35 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report) {
     SegmentConvertReport local;
-    SegmentConvertReport& rep = report ? *report : local;
-    rep = SegmentConvertReport{};
-    rep.convert.maskSource = "segmentation";
-    rep.convert.width = image.width;
-    rep.convert.height = image.height;
+    SegmentConvertReport& segmentReport = report ? *report : local;
+    segmentReport = SegmentConvertReport{};
+    segmentReport.convert.maskSource = "segmentation";
+    segmentReport.convert.width = image.width;
+    segmentReport.convert.height = image.height;
     if (image.width <= 0 || image.height <= 0) throw Error("the image has no pixels", imageName);
     const auto tStart = Clock::now();
 
     Segmentation seg;
-    const std::vector<Region> regions = segmentRegions(image, options, imageName, seg, rep);
+    const std::vector<Region> regions =
+        segmentRegions(image, options, imageName, seg, segmentReport);
 
     auto t0 = Clock::now();
     RegionConverter converter(image, regions, options);
     std::vector<RegionOutcome> outcomes;
     if (options.totalPatches > 0 && !regions.empty()) {
-        outcomes = convertWithinTotal(converter, regions, options, rep);
+        outcomes = convertWithinTotal(converter, regions, options, segmentReport);
     } else {
         std::vector<std::pair<size_t, int>> jobs;
         for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, converter.maxPatches()});
         converter.run(jobs, outcomes);
     }
-    rep.convertSeconds = since(t0);
+    segmentReport.convertSeconds = since(t0);
 
-    Document doc = assembleDocument(image, regions, outcomes, options, rep);
+    Document doc = assembleDocument(image, regions, outcomes, options, segmentReport);
     t0 = Clock::now();
-    measureSegmented(doc, image, seg.labels, rep);
-    rep.measureSeconds = since(t0);
-    rep.totalSeconds = since(tStart);
+    measureSegmented(doc, image, seg.labels, segmentReport);
+    segmentReport.measureSeconds = since(t0);
+    segmentReport.totalSeconds = since(tStart);
     return doc;
 }
 

@@ -59,11 +59,17 @@ const std::vector<Vec2>& outerLoopOf(const Region& region) {
 }
 }  // namespace
 
-RegionCorners findCorners(const Region& region, const CornerOptions& options) {
-    const std::vector<Vec2>& p = outerLoopOf(region);
-    const int n = static_cast<int>(p.size());
+namespace {
+// The loop in the polygon's principal frame (area moments by Green's theorem: centroid and
+// covariance), and the corners of its bounding box there. Y runs along the major axis, X along
+// the minor one (paper: "the shortest being x"); the bounding box is the same either way.
+struct PrincipalFrame {
+    std::vector<Vec2> points;  // the loop's points in the frame
+    Vec2 boxCorner[4];
+};
 
-    // Area moments of the polygon (Green's theorem): centroid and covariance.
+PrincipalFrame principalFrame(const std::vector<Vec2>& p) {
+    const int n = static_cast<int>(p.size());
     double area = 0, cx = 0, cy = 0, sxx = 0, syy = 0, sxy = 0;
     for (int k = 0; k < n; ++k) {
         const Vec2 a = p[k], b = p[(k + 1) % n];
@@ -78,69 +84,89 @@ RegionCorners findCorners(const Region& region, const CornerOptions& options) {
     if (!(area > 0)) throw Error("the region's outer loop encloses no area");
     cx /= area, cy /= area;
     const double cxx = sxx / area - cx * cx, cyy = syy / area - cy * cy, cxy = sxy / area - cx * cy;
-    // Principal frame: Y along the major axis, X along the minor one (paper: "the shortest
-    // being x"); the bounding box is the same either way.
     const double theta = 0.5 * std::atan2(2 * cxy, cxx - cyy);
     const Vec2 major{std::cos(theta), std::sin(theta)}, minor{-major.y, major.x};
     const Vec2 centre{cx, cy};
     auto toFrame = [&](Vec2 q) { return Vec2{dot(q - centre, minor), dot(q - centre, major)}; };
     double x0 = std::numeric_limits<double>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-    std::vector<Vec2> f(n);
+    PrincipalFrame frame;
+    frame.points.resize(static_cast<size_t>(n));
+    std::vector<Vec2>& f = frame.points;
     for (int k = 0; k < n; ++k) {
         f[k] = toFrame(p[k]);
         x0 = std::min(x0, f[k].x), x1 = std::max(x1, f[k].x);
         y0 = std::min(y0, f[k].y), y1 = std::max(y1, f[k].y);
     }
-    const Vec2 boxCorner[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    frame.boxCorner[0] = {x0, y0};
+    frame.boxCorner[1] = {x1, y0};
+    frame.boxCorner[2] = {x1, y1};
+    frame.boxCorner[3] = {x0, y1};
+    return frame;
+}
 
+// The loop point for one box corner: of the stretch of loop around the point nearest to the
+// corner that stays within `reach` of it, the one whose disk area is nearest a quarter disk
+// (a right-angled corner), penalised by lambda times its distance from the nearest point.
+int cornerNear(const std::vector<Vec2>& p, const std::vector<Vec2>& framed, Vec2 boxCorner,
+               double reach, const CornerOptions& options) {
+    const int n = static_cast<int>(p.size());
+    const double target = kPi * options.radius * options.radius / 4;
+    int nearest = 0;
+    for (int k = 1; k < n; ++k)
+        if (norm(framed[k] - boxCorner) < norm(framed[nearest] - boxCorner)) nearest = k;
+    auto cost = [&](int k) {
+        return std::abs(diskArea(p, p[k], options.radius) - target) +
+               options.lambda * norm(p[k] - p[nearest]);
+    };
+    int best = nearest;
+    double bestCost = cost(nearest);
+    for (int dir : {1, -1}) {
+        for (int step = 1; step < n; ++step) {
+            const int k = ((nearest + dir * step) % n + n) % n;
+            if (norm(p[k] - p[nearest]) > reach) break;
+            const double c2 = cost(k);
+            if (c2 < bestCost) bestCost = c2, best = k;
+        }
+    }
+    return best;
+}
+
+// Two box corners snapped to one point (a very thin or odd shape): keep the first and spread
+// the others by arc length (or evenly by index when that fails too). Returns them sorted.
+std::array<int, 4> spreadCorners(const std::vector<Vec2>& p, int start, double perimeter) {
+    const int n = static_cast<int>(p.size());
+    std::array<int, 4> sorted{};
+    double acc = 0;
+    int q = 1;
+    sorted[0] = start;
+    for (int s = 0; s < n && q < 4; ++s) {
+        const int k = (start + s) % n;
+        acc += norm(p[(k + 1) % n] - p[k]);
+        if (acc >= q * perimeter / 4) sorted[q++] = (k + 1) % n;
+    }
+    if (q < 4 || sorted[1] == sorted[0] || sorted[2] == sorted[1] || sorted[3] == sorted[2] ||
+        sorted[3] == sorted[0])
+        for (int c = 0; c < 4; ++c) sorted[c] = (start + c * n / 4) % n;
+    std::sort(sorted.begin(), sorted.end());
+    return sorted;
+}
+}  // namespace
+
+RegionCorners findCorners(const Region& region, const CornerOptions& options) {
+    const std::vector<Vec2>& p = outerLoopOf(region);
+    const int n = static_cast<int>(p.size());
+    const PrincipalFrame frame = principalFrame(p);
     double perimeter = 0;
     for (int k = 0; k < n; ++k) perimeter += norm(p[(k + 1) % n] - p[k]);
-    const double d = options.searchFraction * perimeter;
-    const double target = kPi * options.radius * options.radius / 4;
-
+    const double reach = options.searchFraction * perimeter;
     std::array<int, 4> chosen{};
-    for (int c = 0; c < 4; ++c) {
-        int nearest = 0;
-        for (int k = 1; k < n; ++k)
-            if (norm(f[k] - boxCorner[c]) < norm(f[nearest] - boxCorner[c])) nearest = k;
-        // Candidates: the stretch of loop around the nearest point that stays within d of it.
-        auto cost = [&](int k) {
-            return std::abs(diskArea(p, p[k], options.radius) - target) +
-                   options.lambda * norm(p[k] - p[nearest]);
-        };
-        int best = nearest;
-        double bestCost = cost(nearest);
-        for (int dir : {1, -1}) {
-            for (int step = 1; step < n; ++step) {
-                const int k = ((nearest + dir * step) % n + n) % n;
-                if (norm(p[k] - p[nearest]) > d) break;
-                const double c2 = cost(k);
-                if (c2 < bestCost) bestCost = c2, best = k;
-            }
-        }
-        chosen[c] = best;
-    }
+    for (int c = 0; c < 4; ++c)
+        chosen[c] = cornerNear(p, frame.points, frame.boxCorner[c], reach, options);
 
     std::array<int, 4> sorted = chosen;
     std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-        // Two box corners snapped to one point (a very thin or odd shape): keep the first and
-        // spread the others by arc length.
-        const int start = chosen[0];
-        double acc = 0;
-        int q = 1;
-        sorted[0] = start;
-        for (int s = 0; s < n && q < 4; ++s) {
-            const int k = (start + s) % n;
-            acc += norm(p[(k + 1) % n] - p[k]);
-            if (acc >= q * perimeter / 4) sorted[q++] = (k + 1) % n;
-        }
-        if (q < 4 || sorted[1] == sorted[0] || sorted[2] == sorted[1] || sorted[3] == sorted[2] ||
-            sorted[3] == sorted[0])
-            for (int c = 0; c < 4; ++c) sorted[c] = (start + c * n / 4) % n;
-        std::sort(sorted.begin(), sorted.end());
-    }
-
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+        sorted = spreadCorners(p, chosen[0], perimeter);
     return labelCorners(p, sorted);
 }
 

@@ -210,7 +210,9 @@ double totalStretch(const TriMesh& mesh, const ParamMap& map,
     return stretchOf(mesh, map.uv, features, nullptr);
 }
 
-FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const RgbaImage& image,
+namespace {
+
+void checkFeatureMapInputs(const TriMesh& mesh, const ParamMap& initial,
                            const FeatureMapOptions& options) {
     const int nv = static_cast<int>(mesh.vertices.size());
     if (static_cast<int>(initial.uv.size()) != nv)
@@ -224,109 +226,169 @@ FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const R
         throw Error("feature map: the initial map folds " + std::to_string(flips) + " triangle(s)");
     if (!(options.w >= 0) || !(options.eta > 0) || !(options.smoothing >= 0))
         throw Error("feature map: w and smoothing must be non-negative and eta positive");
+}
 
-    const std::vector<FeatureCoords> f = featureCoordinates(mesh, image, options.w, options.smoothing, options.mask);
+// Stretch minimisation: each iteration reweights the initial map's mean-value weights by the
+// vertices' stretch, solves for the interior vertices and moves towards the solution while the
+// stretch falls.
+class FeatureMapSolver {
+public:
+    FeatureMapSolver(const TriMesh& mesh, const ParamMap& initial, const FeatureMapOptions& options,
+                     const std::vector<FeatureCoords>& f)
+        : mesh_(mesh),
+          initial_(initial),
+          options_(options),
+          f_(f),
+          nv_(static_cast<int>(mesh.vertices.size())),
+          frozen_(nv_, 0),
+          vt_(mesh) {
+        // Loop vertices never move; interior vertices whose solve folds a triangle are frozen too.
+        for (int i : mesh.outerLoop) frozen_[i] = 1;
+        for (const auto& h : mesh.holeLoops)
+            for (int i : h) frozen_[i] = 1;
+    }
 
-    // Loop vertices never move; interior vertices whose solve folds a triangle are frozen too.
-    std::vector<char> frozen(nv, 0);
-    for (int i : mesh.outerLoop) frozen[i] = 1;
-    for (const auto& h : mesh.holeLoops)
-        for (int i : h) frozen[i] = 1;
-    const int loopVertices = static_cast<int>(std::count(frozen.begin(), frozen.end(), 1));
-    const detail::VertexTriangles vt(mesh);
+    FeatureMap run() {
+        const int loopVertices = static_cast<int>(std::count(frozen_.begin(), frozen_.end(), 1));
+        result_.map = initial_;
+        result_.stretch.push_back(stretchOf(mesh_, initial_.uv, f_, &sigma_));
+        if (loopVertices == nv_ || options_.maxIterations <= 0) return result_;
+        // Mean-value weights of the initial map reproduce it exactly; every later map is a
+        // convex combination map of the fixed vertices with reweighted, still positive, weights.
+        W0_ = detail::meanValueWeights(mesh_, initial_.uv);
+        columnScale_ = Eigen::VectorXd::Ones(nv_);
+        uv_ = initial_.uv;
+        unknown_.resize(nv_);
+        full_.resize(nv_);
+        candidate_.resize(nv_);
+        while (result_.solves < options_.maxIterations) {
+            ++result_.solves;
+            bool folded = solveFreezingFolds(reweighted());
+            const double best = result_.stretch.back();
+            double e = best;
+            std::vector<double> nextSigma;
+            if (!stepTowardsSolution(best, folded, e, nextSigma)) {
+                result_.stop = folded ? FeatureMapStop::kWouldFold : FeatureMapStop::kStretchRose;
+                break;
+            }
+            uv_ = candidate_;
+            sigma_ = std::move(nextSigma);
+            result_.stretch.push_back(e);
+            result_.map.uv = uv_;
+            if (e > best * (1 - options_.minGain)) {
+                result_.stop = FeatureMapStop::kSmallGain;
+                break;
+            }
+        }
+        if (countFlippedTriangles(mesh_, result_.map) != 0)
+            throw Error("feature map: internal error, the accepted map folds");
+        return result_;
+    }
 
-    FeatureMap result;
-    result.map = initial;
-    std::vector<double> sigma;
-    result.stretch.push_back(stretchOf(mesh, initial.uv, f, &sigma));
-    if (loopVertices == nv || options.maxIterations <= 0) return result;
+private:
+    // The initial weights with every column scaled down by its vertex's stretch^eta (the scales
+    // accumulate over the iterations).
+    detail::WeightMatrix reweighted() {
+        for (int j = 0; j < nv_; ++j) columnScale_[j] /= std::pow(sigma_[j], options_.eta);
+        // Keeps the weights' magnitude; the solution ignores it.
+        columnScale_ /= columnScale_.mean();
+        return W0_ * columnScale_.asDiagonal();
+    }
 
-    // Mean-value weights of the initial map reproduce it exactly; every later map is a convex
-    // combination map of the fixed vertices with reweighted, still positive, weights.
-    const detail::WeightMatrix W0 = detail::meanValueWeights(mesh, initial.uv);
-    Eigen::VectorXd columnScale = Eigen::VectorXd::Ones(nv);
-
-    // A direct solve each iteration: the reweighted matrix is badly conditioned, so an
-    // iterative solver (BiCGSTAB with a diagonal preconditioner, even warm-started from the
-    // current map) needs thousands of iterations and is far slower than SparseLU.
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-    std::vector<Vec2> uv = initial.uv;
-    std::vector<int> unknown(nv);
-    std::vector<Vec2> full(nv), candidate(nv);
-    while (result.solves < options.maxIterations) {
-        ++result.solves;
-        for (int j = 0; j < nv; ++j) columnScale[j] /= std::pow(sigma[j], options.eta);
-        columnScale /= columnScale.mean();  // keeps the weights' magnitude; the solution ignores it
-        const detail::WeightMatrix W = W0 * columnScale.asDiagonal();
-
-        // With slits the fixed boundary is not convex, so a positive-weight solve can fold near
-        // a slit end: freeze the free vertices of folded triangles and their neighbours
-        // (foldFreezeRings) where they are and solve again, a few times at most.
+    // The solution into full_. With slits the fixed boundary is not convex, so a positive-weight
+    // solve can fold near a slit end: freeze the free vertices of folded triangles and their
+    // neighbours (foldFreezeRings) where they are and solve again, a few times at most. Returns
+    // whether the last solve folded (true, too, when nothing was left to solve).
+    //
+    // A direct solve each time: the reweighted matrix is badly conditioned, so an iterative
+    // solver (BiCGSTAB with a diagonal preconditioner, even warm-started from the current map)
+    // needs thousands of iterations and is far slower than SparseLU.
+    bool solveFreezingFolds(const detail::WeightMatrix& W) {
         bool folded = true;
         for (int round = 0; round < 8 && folded; ++round) {
             int count = 0;
-            Eigen::MatrixXd fixedValues(nv, 2);
-            for (int i = 0; i < nv; ++i) {
-                unknown[i] = frozen[i] ? -1 : count++;
-                fixedValues.row(i) << uv[i].x, uv[i].y;
+            Eigen::MatrixXd fixedValues(nv_, 2);
+            for (int i = 0; i < nv_; ++i) {
+                unknown_[i] = frozen_[i] ? -1 : count++;
+                fixedValues.row(i) << uv_[i].x, uv_[i].y;
             }
             if (count == 0) break;  // every vertex fixed or frozen: nothing to solve
             const detail::LaplacianSystem sys =
-                detail::assembleLaplacian(W, unknown, count, fixedValues);
-            solver.compute(sys.A);
-            ++result.factorizations;
-            if (solver.info() != Eigen::Success)
+                detail::assembleLaplacian(W, unknown_, count, fixedValues);
+            solver_.compute(sys.A);
+            ++result_.factorizations;
+            if (solver_.info() != Eigen::Success)
                 throw Error("feature map: the stretch-weighted system could not be factorised");
-            const Eigen::MatrixXd next = solver.solve(sys.rhs);
+            const Eigen::MatrixXd next = solver_.solve(sys.rhs);
             if (!next.allFinite())
                 throw Error("feature map: the stretch-weighted system could not be solved");
-            for (int i = 0; i < nv; ++i)
-                full[i] = unknown[i] < 0 ? uv[i] : Vec2{next(unknown[i], 0), next(unknown[i], 1)};
-            const std::vector<int> flipped = detail::flippedTriangles(mesh, full);
+            for (int i = 0; i < nv_; ++i)
+                full_[i] =
+                    unknown_[i] < 0 ? uv_[i] : Vec2{next(unknown_[i], 0), next(unknown_[i], 1)};
+            const std::vector<int> flipped = detail::flippedTriangles(mesh_, full_);
             folded = !flipped.empty();
-            int newlyFrozen = 0;
-            std::vector<int> seeds;
-            for (int t : flipped)
-                for (int k : mesh.triangles[t]) {
-                    seeds.push_back(k);
-                    if (!frozen[k]) frozen[k] = 1, ++newlyFrozen;
-                }
-            if (newlyFrozen > 0)
-                newlyFrozen += freezeRings(mesh, vt, seeds, options.foldFreezeRings, frozen);
-            result.frozenVertices += newlyFrozen;
-            if (newlyFrozen == 0) break;
+            if (freezeFolded(flipped) == 0) break;
         }
+        return folded;
+    }
 
-        // The full step, else shorter steps towards it while stretch does not fall.
-        const double best = result.stretch.back();
+    // Freezes the vertices of the flipped triangles and their rings; returns how many.
+    int freezeFolded(const std::vector<int>& flipped) {
+        int newlyFrozen = 0;
+        std::vector<int> seeds;
+        for (int t : flipped)
+            for (int k : mesh_.triangles[t]) {
+                seeds.push_back(k);
+                if (!frozen_[k]) frozen_[k] = 1, ++newlyFrozen;
+            }
+        if (newlyFrozen > 0)
+            newlyFrozen += freezeRings(mesh_, vt_, seeds, options_.foldFreezeRings, frozen_);
+        result_.frozenVertices += newlyFrozen;
+        return newlyFrozen;
+    }
+
+    // The full step into candidate_, else shorter steps towards it, until one lowers the
+    // stretch below `best` (its stretch in e, its sigma in nextSigma). A step that folds sets
+    // `folded`. False when none does.
+    bool stepTowardsSolution(double best, bool& folded, double& e, std::vector<double>& nextSigma) {
         bool accepted = false;
-        std::vector<double> nextSigma;
-        double e = best;
         for (double step = 1; step >= 0.125 && !accepted; step *= 0.5) {
-            for (int i = 0; i < nv; ++i) candidate[i] = uv[i] + step * (full[i] - uv[i]);
-            if (!detail::flippedTriangles(mesh, candidate).empty()) {
+            for (int i = 0; i < nv_; ++i) candidate_[i] = uv_[i] + step * (full_[i] - uv_[i]);
+            if (!detail::flippedTriangles(mesh_, candidate_).empty()) {
                 folded = true;
                 continue;
             }
-            e = stretchOf(mesh, candidate, f, &nextSigma);
+            e = stretchOf(mesh_, candidate_, f_, &nextSigma);
             accepted = e < best;
         }
-        if (!accepted) {
-            result.stop = folded ? FeatureMapStop::kWouldFold : FeatureMapStop::kStretchRose;
-            break;
-        }
-        uv = candidate;
-        sigma = std::move(nextSigma);
-        result.stretch.push_back(e);
-        result.map.uv = uv;
-        if (e > best * (1 - options.minGain)) {
-            result.stop = FeatureMapStop::kSmallGain;
-            break;
-        }
+        return accepted;
     }
-    if (countFlippedTriangles(mesh, result.map) != 0)
-        throw Error("feature map: internal error, the accepted map folds");
-    return result;
+
+    const TriMesh& mesh_;
+    const ParamMap& initial_;
+    const FeatureMapOptions& options_;
+    const std::vector<FeatureCoords>& f_;
+    const int nv_;
+    std::vector<char> frozen_;
+    const detail::VertexTriangles vt_;
+    FeatureMap result_;
+    std::vector<double> sigma_;
+    detail::WeightMatrix W0_;
+    Eigen::VectorXd columnScale_;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver_;
+    std::vector<Vec2> uv_;
+    std::vector<int> unknown_;
+    std::vector<Vec2> full_, candidate_;
+};
+
+}  // namespace
+
+FeatureMap buildFeatureMap(const TriMesh& mesh, const ParamMap& initial, const RgbaImage& image,
+                           const FeatureMapOptions& options) {
+    checkFeatureMapInputs(mesh, initial, options);
+    const std::vector<FeatureCoords> f =
+        featureCoordinates(mesh, image, options.w, options.smoothing, options.mask);
+    return FeatureMapSolver(mesh, initial, options, f).run();
 }
 
 }  // namespace gm

@@ -39,10 +39,10 @@ RefineStep stepOf(const ColorResult& r, char axis, double knot, double seconds) 
 // the residual, averaged over t, still varies with s (a vertical colour edge), and does little
 // where it varies with t alone. Per patch the residual is binned along s (and along t); the
 // energy of the bin means is the u (v) score, summed over the patch column (row).
-std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& image,
+std::vector<Candidate> rankCandidates(const ColorResult& current, const RgbaImage& image,
                                       const Region& region, const RefineOptions& options) {
     constexpr int kBins = 8;
-    const GradientMesh& m = cur.mesh;
+    const GradientMesh& m = current.mesh;
     const int C = m.columns(), R = m.rows(), P = m.patchCount();
     std::vector<PatchHermite> hermite(static_cast<size_t>(P));
     for (int j = 0; j < R; ++j)
@@ -56,7 +56,7 @@ std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& i
     for (int y = 0; y < image.height; ++y) {
         for (int x = 0; x < image.width; ++x) {
             const size_t p = static_cast<size_t>(y) * image.width + x;
-            const PixelSample& ps = cur.samples[p];
+            const PixelSample& ps = current.samples[p];
             if (!region.mask[p] || ps.mesh != 0 || ps.patch < 0) continue;
             double hs[4], ht[4];
             hermiteBasis(ps.s, hs);
@@ -116,35 +116,36 @@ std::vector<Candidate> rankCandidates(const ColorResult& cur, const RgbaImage& i
     return out;
 }
 
-// Knots of `go` plus the first `count` splits of `batch`.
-GridOptions withSplits(GridOptions go, const std::vector<const Candidate*>& batch, size_t count) {
+// Knots of `gridOptions` plus the first `count` splits of `batch`.
+GridOptions withSplits(GridOptions gridOptions, const std::vector<const Candidate*>& batch,
+                       size_t count) {
     for (size_t k = 0; k < count; ++k)
-        (batch[k]->alongU ? go.knotsU : go.knotsV).push_back(batch[k]->knot);
-    std::sort(go.knotsU.begin(), go.knotsU.end());
-    std::sort(go.knotsV.begin(), go.knotsV.end());
-    return go;
+        (batch[k]->alongU ? gridOptions.knotsU : gridOptions.knotsV).push_back(batch[k]->knot);
+    std::sort(gridOptions.knotsU.begin(), gridOptions.knotsU.end());
+    std::sort(gridOptions.knotsV.begin(), gridOptions.knotsV.end());
+    return gridOptions;
 }
 
 // A batch whose mesh `whole` overshoots the target: the shortest prefix of it (in rank order)
 // that still reaches the target, so that the last step does not add patches the target does
 // not ask for. E is taken as linear in the splits' summed scores between the two nearest known
-// prefixes (regula falsi: `cur` is the empty prefix, `whole` the full batch); each guess costs a
-// fit, so none is tried when it would save under 2 % of the patches the batch adds, and at most
+// prefixes (regula falsi: `current` is the empty prefix, `whole` the full batch); each guess costs
+// a fit, so none is tried when it would save under 2 % of the patches the batch adds, and at most
 // options.trimSteps are. `whole` becomes the mesh of the returned prefix length.
-size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& cur,
-                 ColorResult& whole, const GridOptions& go, const GridBuilder& grid,
-                 const RgbaImage& image, const Region& region, const ColorOptions& co,
+size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& current,
+                 ColorResult& whole, const GridOptions& gridOptions, const GridBuilder& grid,
+                 const RgbaImage& image, const Region& region, const ColorOptions& colorOptions,
                  const RefineOptions& options) {
     std::vector<double> score(batch.size() + 1, 0.0);  // summed over the first k splits
     for (size_t k = 0; k < batch.size(); ++k) score[k + 1] = score[k] + batch[k]->score;
-    const long before = cur.mesh.patchCount();
+    const long before = current.mesh.patchCount();
     auto patchesOf = [&](size_t count) {
         long nu = 0, nv = 0;
         for (size_t k = 0; k < count; ++k) (batch[k]->alongU ? nu : nv) += 1;
-        return (cur.mesh.columns() + nu) * (cur.mesh.rows() + nv);
+        return (current.mesh.columns() + nu) * (current.mesh.rows() + nv);
     };
     size_t lo = 0, hi = batch.size();
-    double eLo = cur.error.meanAbs, eHi = whole.error.meanAbs;
+    double eLo = current.error.meanAbs, eHi = whole.error.meanAbs;
     for (int step = 0; step < options.trimSteps && hi - lo > 1 && eLo > eHi; ++step) {
         const double need = std::clamp((eLo - options.maxError) / (eLo - eHi), 0.0, 1.0);
         const double at = score[lo] + need * (score[hi] - score[lo]);
@@ -154,7 +155,8 @@ size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& 
             std::lower_bound(score.begin() + lo + 1, score.begin() + hi, at) - score.begin());
         if (k >= hi || patchesOf(hi) - patchesOf(k) < 0.02 * (patchesOf(batch.size()) - before))
             break;
-        ColorResult r = computeColors(grid.build(withSplits(go, batch, k)), image, region, co);
+        ColorResult r = computeColors(grid.build(withSplits(gridOptions, batch, k)), image, region,
+                                      colorOptions);
         if (r.error.meanAbs <= options.maxError) {
             hi = k;
             eHi = r.error.meanAbs;
@@ -167,101 +169,146 @@ size_t trimBatch(const std::vector<const Candidate*>& batch, const ColorResult& 
     return hi;
 }
 
+// Greedy refinement of one grid: each lap ranks the splits, tries a batch of the best ones,
+// else single splits, and keeps the first mesh that lowers E.
+class Refiner {
+public:
+    Refiner(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
+            const Region& region, const RefineOptions& options)
+        : grid_(grid),
+          image_(image),
+          region_(region),
+          options_(options),
+          colorOptions_(options.color),
+          gridOptions_(initial),
+          t0_(Clock::now()) {
+        colorOptions_.keepPixels = true;
+    }
+
+    RefineResult run() {
+        current_ = fit(gridOptions_);
+        gridOptions_.knotsU = current_.mesh.u;
+        gridOptions_.knotsV = current_.mesh.v;
+        result_.steps.push_back(stepOf(current_, 0, 0, lap()));
+        while (current_.error.meanAbs > options_.maxError) {
+            const std::vector<Candidate> ranked =
+                rankCandidates(current_, image_, region_, options_);
+            if (ranked.empty()) break;
+            if (tryBatch(ranked)) continue;
+            if (!trySingleSplits(ranked)) break;
+        }
+        result_.error = current_.error;
+        result_.reachedTarget = current_.error.meanAbs <= options_.maxError;
+        result_.mesh = std::move(current_.mesh);
+        return std::move(result_);
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+
+    // Seconds since the last lap.
+    double lap() {
+        const auto t = Clock::now();
+        const double s = std::chrono::duration<double>(t - t0_).count();
+        t0_ = t;
+        return s;
+    }
+
+    ColorResult fit(const GridOptions& gridOptions) const {
+        return computeColors(grid_.build(gridOptions), image_, region_, colorOptions_);
+    }
+
+    // The best-ranked splits whose scores are within batchFraction of the best, as long as the
+    // grid stays within batchGrowth times its patches (and the budget).
+    std::vector<const Candidate*> batchOf(const std::vector<Candidate>& ranked) const {
+        const long C = current_.mesh.columns(), R = current_.mesh.rows();
+        const double cap = std::min<double>(options_.maxPatches, options_.batchGrowth * C * R);
+        long nu = 0, nv = 0;
+        std::vector<const Candidate*> batch;
+        for (const Candidate& c : ranked) {
+            if (c.score < options_.batchFraction * ranked.front().score) break;
+            const long patches = (C + nu + (c.alongU ? 1 : 0)) * (R + nv + (c.alongU ? 0 : 1));
+            if (patches > cap) continue;
+            (c.alongU ? nu : nv) += 1;
+            batch.push_back(&c);
+        }
+        return batch;
+    }
+
+    // A batch of the best-ranked splits at once (trimmed when it overshoots the target); true
+    // when it lowered E and was kept.
+    bool tryBatch(const std::vector<Candidate>& ranked) {
+        if (!(options_.batchGrowth > 1.0 && ranked.size() > 1)) return false;
+        std::vector<const Candidate*> batch = batchOf(ranked);
+        if (batch.size() <= 1) return false;
+        ColorResult r = fit(withSplits(gridOptions_, batch, batch.size()));
+        if (r.error.meanAbs <= options_.maxError && options_.trimSteps > 0)
+            batch.resize(trimBatch(batch, current_, r, gridOptions_, grid_, image_, region_,
+                                   colorOptions_, options_));
+        if (!(r.error.meanAbs < current_.error.meanAbs)) return false;
+        RefineStep& step =
+            accept(std::move(r), batch.front()->alongU ? 'u' : 'v', batch.front()->knot);
+        for (const Candidate* c : batch) step.splits.emplace_back(c->alongU ? 'u' : 'v', c->knot);
+        return true;
+    }
+
+    // Batches of `candidates` single splits, best of each batch; a later batch only when the
+    // earlier ones brought no improvement. True when a split was kept.
+    bool trySingleSplits(const std::vector<Candidate>& ranked) {
+        const int perStep = std::max(1, options_.candidates);
+        const int maxTries = std::max(perStep, options_.maxTries);
+        for (size_t start = 0; start < ranked.size() && static_cast<int>(start) < maxTries;
+             start += static_cast<size_t>(perStep)) {
+            ColorResult best;
+            bool have = false;
+            const Candidate* bestCandidate = nullptr;
+            for (size_t k = start; k < std::min(ranked.size(), start + perStep); ++k) {
+                const Candidate& c = ranked[k];
+                GridOptions trial = gridOptions_;
+                std::vector<double>& knots = c.alongU ? trial.knotsU : trial.knotsV;
+                knots.insert(knots.begin() + c.interval + 1, c.knot);
+                ColorResult r = fit(trial);
+                if (!have || r.error.meanAbs < best.error.meanAbs) {
+                    best = std::move(r);
+                    bestCandidate = &c;
+                    have = true;
+                }
+            }
+            if (have && best.error.meanAbs < current_.error.meanAbs) {
+                RefineStep& step =
+                    accept(std::move(best), bestCandidate->alongU ? 'u' : 'v', bestCandidate->knot);
+                step.splits.emplace_back(step.axis, step.knot);
+                return true;
+            }
+        }
+        return false;
+    }
+
+    // The new current mesh, its knots and its step (returned for its splits).
+    RefineStep& accept(ColorResult next, char axis, double knot) {
+        current_ = std::move(next);
+        gridOptions_.knotsU = current_.mesh.u;
+        gridOptions_.knotsV = current_.mesh.v;
+        result_.steps.push_back(stepOf(current_, axis, knot, lap()));
+        return result_.steps.back();
+    }
+
+    const GridBuilder& grid_;
+    const RgbaImage& image_;
+    const Region& region_;
+    const RefineOptions& options_;
+    ColorOptions colorOptions_;
+    GridOptions gridOptions_;
+    Clock::time_point t0_;
+    ColorResult current_;
+    RefineResult result_;
+};
+
 }  // namespace
 
 RefineResult refineMesh(const GridBuilder& grid, const GridOptions& initial, const RgbaImage& image,
                         const Region& region, const RefineOptions& options) {
-    using Clock = std::chrono::steady_clock;
-    auto t0 = Clock::now();
-    auto lap = [&]() {
-        const auto t = Clock::now();
-        const double s = std::chrono::duration<double>(t - t0).count();
-        t0 = t;
-        return s;
-    };
-    ColorOptions co = options.color;
-    co.keepPixels = true;
-
-    GridOptions go = initial;
-    ColorResult cur = computeColors(grid.build(go), image, region, co);
-    go.knotsU = cur.mesh.u;
-    go.knotsV = cur.mesh.v;
-    RefineResult result;
-    result.steps.push_back(stepOf(cur, 0, 0, lap()));
-
-    while (cur.error.meanAbs > options.maxError) {
-        const std::vector<Candidate> ranked = rankCandidates(cur, image, region, options);
-        if (ranked.empty()) break;
-        // A batch of the best-ranked splits first.
-        if (options.batchGrowth > 1.0 && ranked.size() > 1) {
-            const long C = cur.mesh.columns(), R = cur.mesh.rows();
-            const double cap = std::min<double>(options.maxPatches, options.batchGrowth * C * R);
-            long nu = 0, nv = 0;
-            std::vector<const Candidate*> batch;
-            for (const Candidate& c : ranked) {
-                if (c.score < options.batchFraction * ranked.front().score) break;
-                const long patches = (C + nu + (c.alongU ? 1 : 0)) * (R + nv + (c.alongU ? 0 : 1));
-                if (patches > cap) continue;
-                (c.alongU ? nu : nv) += 1;
-                batch.push_back(&c);
-            }
-            if (batch.size() > 1) {
-                ColorResult r = computeColors(grid.build(withSplits(go, batch, batch.size())),
-                                              image, region, co);
-                if (r.error.meanAbs <= options.maxError && options.trimSteps > 0)
-                    batch.resize(trimBatch(batch, cur, r, go, grid, image, region, co, options));
-                if (r.error.meanAbs < cur.error.meanAbs) {
-                    cur = std::move(r);
-                    go.knotsU = cur.mesh.u;
-                    go.knotsV = cur.mesh.v;
-                    RefineStep st = stepOf(cur, batch.front()->alongU ? 'u' : 'v',
-                                           batch.front()->knot, lap());
-                    for (const Candidate* c : batch)
-                        st.splits.emplace_back(c->alongU ? 'u' : 'v', c->knot);
-                    result.steps.push_back(std::move(st));
-                    continue;
-                }
-            }
-        }
-        const int perStep = std::max(1, options.candidates);
-        const int maxTries = std::max(perStep, options.maxTries);
-        bool accepted = false;
-        // Batches of `perStep` candidates, best of each batch; a later batch only when the
-        // earlier ones brought no improvement.
-        for (size_t start = 0;
-             start < ranked.size() && !accepted && static_cast<int>(start) < maxTries;
-             start += static_cast<size_t>(perStep)) {
-            ColorResult best;
-            bool have = false;
-            const Candidate* bestCand = nullptr;
-            for (size_t k = start; k < std::min(ranked.size(), start + perStep); ++k) {
-                const Candidate& c = ranked[k];
-                GridOptions trial = go;
-                std::vector<double>& knots = c.alongU ? trial.knotsU : trial.knotsV;
-                knots.insert(knots.begin() + c.interval + 1, c.knot);
-                ColorResult r = computeColors(grid.build(trial), image, region, co);
-                if (!have || r.error.meanAbs < best.error.meanAbs) {
-                    best = std::move(r);
-                    bestCand = &c;
-                    have = true;
-                }
-            }
-            if (have && best.error.meanAbs < cur.error.meanAbs) {
-                cur = std::move(best);
-                go.knotsU = cur.mesh.u;
-                go.knotsV = cur.mesh.v;
-                RefineStep st = stepOf(cur, bestCand->alongU ? 'u' : 'v', bestCand->knot, lap());
-                st.splits.emplace_back(st.axis, st.knot);
-                result.steps.push_back(std::move(st));
-                accepted = true;
-            }
-        }
-        if (!accepted) break;
-    }
-    result.error = cur.error;
-    result.reachedTarget = cur.error.meanAbs <= options.maxError;
-    result.mesh = std::move(cur.mesh);
-    return result;
+    return Refiner(grid, initial, image, region, options).run();
 }
 
 RefineResult refineMesh(const TriMesh& mesh, const ParamMap& map, const GridOptions& initial,

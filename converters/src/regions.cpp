@@ -207,6 +207,93 @@ bool segmentsTouch(Vec2 p1, Vec2 p2, Vec2 p3, Vec2 p4) {
     return o1 * o2 <= 0 && o3 * o4 <= 0;
 }
 
+// One edge of a simplified loop: the span of original points it replaces.
+struct LoopSpan {
+    int loop, from, to;  // original point indices of the span
+};
+
+// The simplified loops' edges (between consecutive kept points), and the kept points' bounds.
+std::vector<LoopSpan> keptSpans(const std::vector<Polygon*>& loops,
+                                const std::vector<std::vector<uint8_t>>& keep, Vec2& lo, Vec2& hi) {
+    std::vector<LoopSpan> spans;
+    double minX = std::numeric_limits<double>::max(), minY = minX;
+    double maxX = -minX, maxY = -minX;
+    for (size_t l = 0; l < loops.size(); ++l) {
+        const auto& p = loops[l]->points;
+        const int n = static_cast<int>(p.size());
+        int first = -1, prev = -1;
+        for (int k = 0; k < n; ++k) {
+            if (!keep[l][k]) continue;
+            minX = std::min(minX, p[k].x), maxX = std::max(maxX, p[k].x);
+            minY = std::min(minY, p[k].y), maxY = std::max(maxY, p[k].y);
+            if (prev >= 0)
+                spans.push_back({static_cast<int>(l), prev, k});
+            else
+                first = k;
+            prev = k;
+        }
+        spans.push_back({static_cast<int>(l), prev, first});
+    }
+    lo = {minX, minY};
+    hi = {maxX, maxY};
+    return spans;
+}
+
+// Marks the edges that cross or touch another edge (other than their neighbours on the same
+// loop), through a uniform grid of the edges' bounding boxes; false when none does.
+bool markTouchingSpans(const std::vector<Polygon*>& loops, const std::vector<LoopSpan>& spans,
+                       Vec2 lo, Vec2 hi, std::vector<uint8_t>& bad) {
+    const double cell = 4.0;
+    const int gw = static_cast<int>((hi.x - lo.x) / cell) + 1;
+    const int gh = static_cast<int>((hi.y - lo.y) / cell) + 1;
+    std::vector<std::vector<int>> grid(static_cast<size_t>(gw) * gh);
+    auto P = [&](int l, int k) { return loops[l]->points[k]; };
+    for (size_t s = 0; s < spans.size(); ++s) {
+        const Vec2 a = P(spans[s].loop, spans[s].from), b = P(spans[s].loop, spans[s].to);
+        const int cx0 = static_cast<int>((std::min(a.x, b.x) - lo.x) / cell);
+        const int cx1 = static_cast<int>((std::max(a.x, b.x) - lo.x) / cell);
+        const int cy0 = static_cast<int>((std::min(a.y, b.y) - lo.y) / cell);
+        const int cy1 = static_cast<int>((std::max(a.y, b.y) - lo.y) / cell);
+        for (int cy = cy0; cy <= cy1; ++cy)
+            for (int cx = cx0; cx <= cx1; ++cx) grid[cy * gw + cx].push_back(static_cast<int>(s));
+    }
+    bad.assign(spans.size(), 0);
+    bool any = false;
+    for (const auto& bucket : grid) {
+        for (size_t u = 0; u < bucket.size(); ++u) {
+            for (size_t v = u + 1; v < bucket.size(); ++v) {
+                const LoopSpan& s = spans[bucket[u]];
+                const LoopSpan& t = spans[bucket[v]];
+                if (s.loop == t.loop && (s.to == t.from || t.to == s.from)) continue;
+                if (segmentsTouch(P(s.loop, s.from), P(s.loop, s.to), P(t.loop, t.from),
+                                  P(t.loop, t.to))) {
+                    bad[bucket[u]] = bad[bucket[v]] = 1;
+                    any = true;
+                }
+            }
+        }
+    }
+    return any;
+}
+
+// Splits the kept edges of one loop longer than maxSegment evenly: the shape stays, the
+// spacing is bounded. Returns the loop's new points.
+std::vector<Vec2> splitLongEdges(const std::vector<Vec2>& p, const std::vector<uint8_t>& keep,
+                                 double maxSegment) {
+    std::vector<int> kept;
+    for (size_t k = 0; k < keep.size(); ++k)
+        if (keep[k]) kept.push_back(static_cast<int>(k));
+    std::vector<Vec2> out;
+    for (size_t k = 0; k < kept.size(); ++k) {
+        const Vec2 a = p[kept[k]], b = p[kept[(k + 1) % kept.size()]];
+        const int pieces =
+            maxSegment > 0 ? std::max(1, static_cast<int>(std::ceil(norm(b - a) / maxSegment))) : 1;
+        for (int q = 0; q < pieces; ++q)
+            out.push_back(a + (static_cast<double>(q) / pieces) * (b - a));
+    }
+    return out;
+}
+
 // Simplifies every loop of a region; where a simplified edge would cross or touch another, the
 // original points of that span come back, until the loops are again disjoint simple polygons.
 // Then splits edges longer than maxSegment evenly.
@@ -217,106 +304,29 @@ void simplifyLoops(std::vector<Polygon*> loops, double tol, double maxSegment) {
         keep[l].assign(loops[l]->points.size(), 0);
         simplifyLoop(loops[l]->points, tol, keep[l]);
     }
-    struct Seg {
-        int loop, from, to;  // original point indices of the span
-    };
+    std::vector<uint8_t> bad;
     for (int round = 0; round < 64; ++round) {
-        std::vector<Seg> segs;
-        double minX = std::numeric_limits<double>::max(), minY = minX;
-        double maxX = -minX, maxY = -minX;
-        for (size_t l = 0; l < loops.size(); ++l) {
-            const auto& p = loops[l]->points;
-            const int n = static_cast<int>(p.size());
-            int first = -1, prev = -1;
-            for (int k = 0; k < n; ++k) {
-                if (!keep[l][k]) continue;
-                minX = std::min(minX, p[k].x), maxX = std::max(maxX, p[k].x);
-                minY = std::min(minY, p[k].y), maxY = std::max(maxY, p[k].y);
-                if (prev >= 0) segs.push_back({static_cast<int>(l), prev, k});
-                else first = k;
-                prev = k;
-            }
-            segs.push_back({static_cast<int>(l), prev, first});
-        }
-        // Uniform grid of segment bounding boxes.
-        const double cell = 4.0;
-        const int gw = static_cast<int>((maxX - minX) / cell) + 1;
-        const int gh = static_cast<int>((maxY - minY) / cell) + 1;
-        std::vector<std::vector<int>> grid(static_cast<size_t>(gw) * gh);
-        auto P = [&](int l, int k) { return loops[l]->points[k]; };
-        for (size_t s = 0; s < segs.size(); ++s) {
-            const Vec2 a = P(segs[s].loop, segs[s].from), b = P(segs[s].loop, segs[s].to);
-            const int cx0 = static_cast<int>((std::min(a.x, b.x) - minX) / cell);
-            const int cx1 = static_cast<int>((std::max(a.x, b.x) - minX) / cell);
-            const int cy0 = static_cast<int>((std::min(a.y, b.y) - minY) / cell);
-            const int cy1 = static_cast<int>((std::max(a.y, b.y) - minY) / cell);
-            for (int cy = cy0; cy <= cy1; ++cy)
-                for (int cx = cx0; cx <= cx1; ++cx) grid[cy * gw + cx].push_back(static_cast<int>(s));
-        }
-        std::vector<uint8_t> bad(segs.size(), 0);
-        bool any = false;
-        for (const auto& bucket : grid) {
-            for (size_t u = 0; u < bucket.size(); ++u) {
-                for (size_t v = u + 1; v < bucket.size(); ++v) {
-                    const Seg& s = segs[bucket[u]];
-                    const Seg& t = segs[bucket[v]];
-                    if (s.loop == t.loop && (s.to == t.from || t.to == s.from)) continue;
-                    if (segmentsTouch(P(s.loop, s.from), P(s.loop, s.to), P(t.loop, t.from),
-                                      P(t.loop, t.to))) {
-                        bad[bucket[u]] = bad[bucket[v]] = 1;
-                        any = true;
-                    }
-                }
-            }
-        }
-        if (!any) break;
+        Vec2 lo, hi;
+        const std::vector<LoopSpan> spans = keptSpans(loops, keep, lo, hi);
+        if (!markTouchingSpans(loops, spans, lo, hi, bad)) break;
         bool changed = false;
-        for (size_t s = 0; s < segs.size(); ++s) {
+        for (size_t s = 0; s < spans.size(); ++s) {
             if (!bad[s]) continue;
-            const int n = static_cast<int>(loops[segs[s].loop]->points.size());
-            for (int k = (segs[s].from + 1) % n; k != segs[s].to; k = (k + 1) % n) {
-                if (!keep[segs[s].loop][k]) changed = true;
-                keep[segs[s].loop][k] = 1;
+            const int n = static_cast<int>(loops[spans[s].loop]->points.size());
+            for (int k = (spans[s].from + 1) % n; k != spans[s].to; k = (k + 1) % n) {
+                if (!keep[spans[s].loop][k]) changed = true;
+                keep[spans[s].loop][k] = 1;
             }
         }
         if (!changed) break;  // already at full resolution: the traced loops are simple
     }
-    // Long edges get evenly spaced points on them: the shape stays, the spacing is bounded.
-    for (size_t l = 0; l < loops.size(); ++l) {
-        const auto& p = loops[l]->points;
-        std::vector<int> kept;
-        for (size_t k = 0; k < keep[l].size(); ++k)
-            if (keep[l][k]) kept.push_back(static_cast<int>(k));
-        std::vector<Vec2> out;
-        for (size_t k = 0; k < kept.size(); ++k) {
-            const Vec2 a = p[kept[k]], b = p[kept[(k + 1) % kept.size()]];
-            const int pieces =
-                maxSegment > 0 ? std::max(1, static_cast<int>(std::ceil(norm(b - a) / maxSegment))) : 1;
-            for (int q = 0; q < pieces; ++q) out.push_back(a + (static_cast<double>(q) / pieces) * (b - a));
-        }
-        loops[l]->points = std::move(out);
-    }
+    for (size_t l = 0; l < loops.size(); ++l)
+        loops[l]->points = splitLongEdges(loops[l]->points, keep[l], maxSegment);
 }
 
-// Builds one region from a component. `source(x, y)` is the coverage to trace at an image pixel
-// (only its sub-pixel position matters: which pixels are inside comes from the component).
-Region buildRegion(int width, int height, const PixelComponent& comp, int compIndex,
-                   const std::vector<int>& compId, const std::function<float(int, int)>& source,
-                   const RegionOptions& options) {
-    Region region;
-    region.width = width;
-    region.height = height;
-    region.label = comp.label;
-    // Trace grid: bounding box plus one background sample on every side.
-    LocalGrid g;
-    g.x0 = comp.x0 - 1, g.y0 = comp.y0 - 1;
-    g.w = comp.x1 - comp.x0 + 3, g.h = comp.y1 - comp.y0 + 3;
-    std::vector<uint8_t> inside(static_cast<size_t>(g.w) * g.h, 0);
-    for (int j = 1; j + 1 < g.h; ++j)
-        for (int i = 1; i + 1 < g.w; ++i)
-            inside[g.index(i, j)] = compId[(g.y0 + j) * width + g.x0 + i] == compIndex;
-
-    // Holes: background not 4-connected to the grid's border.
+// Fills the holes (background not 4-connected to the grid's border) smaller than minHole
+// pixels into `inside`.
+void fillSmallHoles(const LocalGrid& g, std::vector<uint8_t>& inside, int minHole) {
     std::vector<int> holeId(inside.size(), -2);  // -2 unvisited background, -1 outside
     std::vector<int> stack;
     auto flood = [&](int seed, int id, std::vector<int>* members) {
@@ -344,31 +354,42 @@ Region buildRegion(int width, int height, const PixelComponent& comp, int compIn
         if (inside[k] || holeId[k] != -2) continue;
         std::vector<int> members;
         flood(static_cast<int>(k), holeCount++, &members);
-        if (static_cast<int>(members.size()) < options.minHole)
+        if (static_cast<int>(members.size()) < minHole)
             for (int m : members) inside[m] = 1;
     }
+}
 
-    region.mask.assign(static_cast<size_t>(width) * height, 0);
-    for (int j = 1; j + 1 < g.h; ++j)
-        for (int i = 1; i + 1 < g.w; ++i)
-            if (inside[g.index(i, j)]) {
-                region.mask[(g.y0 + j) * width + g.x0 + i] = 1;
-                ++region.pixelCount;
+// The sub-pixel field the loops are traced in: the source coverage, lightly blurred, over the
+// trace grid plus `margin` samples on every side; beyond the image the border value is repeated.
+struct CoverageField {
+    int margin = 0, w = 0, h = 0;
+    std::vector<float> values;
+
+    CoverageField(const LocalGrid& g, int width, int height,
+                  const std::function<float(int, int)>& source, double smoothing)
+        : margin(smoothing > 0 ? static_cast<int>(std::ceil(3 * smoothing)) : 0),
+          w(g.w + 2 * margin),
+          h(g.h + 2 * margin),
+          values(static_cast<size_t>(w) * h) {
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const int x = std::clamp(g.x0 - margin + i, 0, width - 1);
+                const int y = std::clamp(g.y0 - margin + j, 0, height - 1);
+                values[j * w + i] = source(x, y);
             }
+        gaussianBlur(values, w, h, smoothing);
+    }
+    // The value at trace-grid sample k.
+    float at(const LocalGrid& g, int k) const {
+        return values[(k / g.w + margin) * w + k % g.w + margin];
+    }
+};
 
-    // Sub-pixel field: the source coverage, lightly blurred, over the trace grid plus the kernel
-    // margin; beyond the image the border value is repeated.
-    const int margin = options.smoothing > 0 ? static_cast<int>(std::ceil(3 * options.smoothing)) : 0;
-    const int fw = g.w + 2 * margin, fh = g.h + 2 * margin;
-    std::vector<float> field(static_cast<size_t>(fw) * fh);
-    for (int j = 0; j < fh; ++j)
-        for (int i = 0; i < fw; ++i) {
-            const int x = std::clamp(g.x0 - margin + i, 0, width - 1);
-            const int y = std::clamp(g.y0 - margin + j, 0, height - 1);
-            field[j * fw + i] = source(x, y);
-        }
-    gaussianBlur(field, fw, fh, options.smoothing);
-
+// The region's loops from marching squares over `inside`, each crossing placed on the field's
+// iso-line: 0.5 for the holes, options.outerLevel for the outer loop.
+std::vector<Polygon> traceLoops(const LocalGrid& g, const std::vector<uint8_t>& inside,
+                                const CoverageField& field, int width, int height,
+                                const RegionOptions& options) {
     auto pixelCentre = [&](int k) {
         return Vec2{g.x0 + k % g.w + 0.5, g.y0 + k / g.w + 0.5};
     };
@@ -384,11 +405,9 @@ Region buildRegion(int width, int height, const PixelComponent& comp, int compIn
             const Vec2 pa = pixelCentre(a), pb = pixelCentre(b);
             double t = 0.5;  // the image border, between a border pixel and the padding beyond
             if (!outsideImage(b)) {
-                const int ia = (a / g.w + margin) * fw + a % g.w + margin;
-                const int ib = (b / g.w + margin) * fw + b % g.w + margin;
                 // Each sample forced to its side of the level, so the crossing lies between.
-                const double fa = std::max<double>(field[ia], level + 0.05);
-                const double fb = std::min<double>(field[ib], level - 0.05);
+                const double fa = std::max<double>(field.at(g, a), level + 0.05);
+                const double fb = std::min<double>(field.at(g, b), level - 0.05);
                 t = std::clamp((fa - level) / (fa - fb), minT, 0.9);
             }
             return pa + t * (pb - pa);
@@ -404,6 +423,38 @@ Region buildRegion(int width, int height, const PixelComponent& comp, int compIn
                 for (auto& o : grown)
                     if (polygonSignedArea(o) > 0) l = std::move(o);
     }
+    return loops;
+}
+
+// Builds one region from a component. `source(x, y)` is the coverage to trace at an image pixel
+// (only its sub-pixel position matters: which pixels are inside comes from the component).
+Region buildRegion(int width, int height, const PixelComponent& comp, int compIndex,
+                   const std::vector<int>& compId, const std::function<float(int, int)>& source,
+                   const RegionOptions& options) {
+    Region region;
+    region.width = width;
+    region.height = height;
+    region.label = comp.label;
+    // Trace grid: bounding box plus one background sample on every side.
+    LocalGrid g;
+    g.x0 = comp.x0 - 1, g.y0 = comp.y0 - 1;
+    g.w = comp.x1 - comp.x0 + 3, g.h = comp.y1 - comp.y0 + 3;
+    std::vector<uint8_t> inside(static_cast<size_t>(g.w) * g.h, 0);
+    for (int j = 1; j + 1 < g.h; ++j)
+        for (int i = 1; i + 1 < g.w; ++i)
+            inside[g.index(i, j)] = compId[(g.y0 + j) * width + g.x0 + i] == compIndex;
+    fillSmallHoles(g, inside, options.minHole);
+
+    region.mask.assign(static_cast<size_t>(width) * height, 0);
+    for (int j = 1; j + 1 < g.h; ++j)
+        for (int i = 1; i + 1 < g.w; ++i)
+            if (inside[g.index(i, j)]) {
+                region.mask[(g.y0 + j) * width + g.x0 + i] = 1;
+                ++region.pixelCount;
+            }
+
+    const CoverageField field(g, width, height, source, options.smoothing);
+    std::vector<Polygon> loops = traceLoops(g, inside, field, width, height, options);
     std::vector<Polygon*> loopPtrs;
     for (auto& l : loops) loopPtrs.push_back(&l);
     simplifyLoops(loopPtrs, options.simplifyTolerance, options.maxSegment);
@@ -550,22 +601,24 @@ std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, 
 Region growRegionInto(const Region& own, int overlap, int minHole, const std::vector<uint8_t>& under,
                       double outerLevel) {
     if (overlap <= 0 && minHole <= 0) return own;
-    RegionOptions ro;
-    ro.minArea = 1;
-    ro.minHole = minHole;
-    ro.outerLevel = outerLevel;
+    RegionOptions regionOptions;
+    regionOptions.minArea = 1;
+    regionOptions.minHole = minHole;
+    regionOptions.outerLevel = outerLevel;
     std::vector<uint8_t> grown = own.mask;
     if (overlap > 0) {
         const std::vector<uint8_t> d = dilateMask(own.mask, own.width, own.height, overlap);
         for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
     }
-    std::vector<Region> rs = extractRegions(coverageFromBits(own.width, own.height, grown), ro);
-    if (rs.empty()) throw Error("the grown region vanished");
-    Region g = std::move(rs.front());  // the largest: grown from one component, it is one
-    g.label = own.label;
-    g.mask = own.mask;
-    g.pixelCount = own.pixelCount;
-    return g;
+    std::vector<Region> grownRegions =
+        extractRegions(coverageFromBits(own.width, own.height, grown), regionOptions);
+    if (grownRegions.empty()) throw Error("the grown region vanished");
+    Region region =
+        std::move(grownRegions.front());  // the largest: grown from one component, it is one
+    region.label = own.label;
+    region.mask = own.mask;
+    region.pixelCount = own.pixelCount;
+    return region;
 }
 
 PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h) {

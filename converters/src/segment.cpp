@@ -228,82 +228,110 @@ std::vector<Segment> describeSegments(const cv::Mat& bgr, const std::vector<int>
     return segs;
 }
 
-// Returns the pixels whose label changed; pixels no segment claims become -1.
-long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, int band,
-                       int iterations, long minPixels, int threads, SegmentStats& st) {
-    const int W = bgr.cols, H = bgr.rows;
-    const size_t N = labels.size();
-    const auto segs = describeSegments(bgr, labels, count);
-    std::vector<uint8_t> ownerSaysBg(N, 0);
-    std::vector<int> claim(N, -1);
-    std::vector<float> claimDist(N, std::numeric_limits<float>::infinity());
-    const int margin = band + std::max(8, 2 * band);  // colour context beyond the band
+// One segment's GrabCut result over its region of interest.
+struct SegmentCut {
+    cv::Rect roi;
+    cv::Mat before, mask;  // empty: the segment is left as it is
+};
 
-    // GrabCut per segment is independent of the others (it reads the labels and the image
-    // only): segments run in parallel, a batch at a time, and are merged in segment order, so
-    // that the result does not depend on the thread count.
-    struct Cut {
-        cv::Rect roi;
-        cv::Mat before, mask;  // empty: the segment is left as it is
-    };
-    auto cutSegment = [&](int s) {
-        Cut cut;
-        const Segment& seg = segs[s];
-        if (seg.pixels < std::max(minPixels, 16L) || seg.pixels == static_cast<long>(N)) return cut;
-        const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
-        const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
-        const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
-        cv::Mat inside(roi.size(), CV_8U);
-        for (int y = 0; y < roi.height; ++y) {
-            auto* row = inside.ptr<uint8_t>(y);
-            const int* lab = &labels[static_cast<size_t>(y + ry0) * W + rx0];
-            for (int x = 0; x < roi.width; ++x) row[x] = lab[x] == s ? 255 : 0;
-        }
-        cv::Mat distIn, distOut, outside;
-        cv::bitwise_not(inside, outside);
-        cv::distanceTransform(inside, distIn, cv::DIST_L2, cv::DIST_MASK_3);
-        cv::distanceTransform(outside, distOut, cv::DIST_L2, cv::DIST_MASK_3);
-        cv::Mat mask(roi.size(), CV_8U);
-        long fg = 0, bg = 0;
-        for (int y = 0; y < roi.height; ++y) {
-            const auto* in = inside.ptr<uint8_t>(y);
-            const auto* di = distIn.ptr<float>(y);
-            const auto* dout = distOut.ptr<float>(y);
-            auto* m = mask.ptr<uint8_t>(y);
-            for (int x = 0; x < roi.width; ++x) {
-                if (in[x]) {
-                    m[x] = di[x] > band ? cv::GC_FGD : cv::GC_PR_FGD;
-                    ++fg;
-                } else {
-                    m[x] = dout[x] > band ? cv::GC_BGD : cv::GC_PR_BGD;
-                    ++bg;
-                }
+struct GrabCutParams {
+    int band = 0;        // half-width of the uncertain band along the segment's border
+    int iterations = 0;  // GrabCut iterations
+    long minPixels = 0;  // smaller segments are left as they are
+    int margin = 0;      // colour context beyond the band
+};
+
+// Segment s's trimap over roi: pixels farther than `band` from its border are sure foreground
+// (inside) or background (outside), the others probable; `fg` and `bg` count each side.
+cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Rect& roi, int band,
+                      long& fg, long& bg) {
+    cv::Mat inside(roi.size(), CV_8U);
+    for (int y = 0; y < roi.height; ++y) {
+        auto* row = inside.ptr<uint8_t>(y);
+        const int* lab = &labels[static_cast<size_t>(y + roi.y) * W + roi.x];
+        for (int x = 0; x < roi.width; ++x) row[x] = lab[x] == s ? 255 : 0;
+    }
+    cv::Mat distIn, distOut, outside;
+    cv::bitwise_not(inside, outside);
+    cv::distanceTransform(inside, distIn, cv::DIST_L2, cv::DIST_MASK_3);
+    cv::distanceTransform(outside, distOut, cv::DIST_L2, cv::DIST_MASK_3);
+    cv::Mat mask(roi.size(), CV_8U);
+    fg = bg = 0;
+    for (int y = 0; y < roi.height; ++y) {
+        const auto* in = inside.ptr<uint8_t>(y);
+        const auto* di = distIn.ptr<float>(y);
+        const auto* dout = distOut.ptr<float>(y);
+        auto* m = mask.ptr<uint8_t>(y);
+        for (int x = 0; x < roi.width; ++x) {
+            if (in[x]) {
+                m[x] = di[x] > band ? cv::GC_FGD : cv::GC_PR_FGD;
+                ++fg;
+            } else {
+                m[x] = dout[x] > band ? cv::GC_BGD : cv::GC_PR_BGD;
+                ++bg;
             }
         }
-        if (fg < 16 || bg < 16) return cut;  // GrabCut's colour models need samples
-        cv::Mat before = mask.clone(), bgdModel, fgdModel;
-        // GrabCut seeds its colour models with k-means on OpenCV's (thread-local) random
-        // generator: a fixed seed per segment makes the result reproducible; the thread's
-        // generator state is restored.
-        const uint64_t savedRng = cv::theRNG().state;
-        cv::theRNG().state = 0x9e3779b97f4a7c15ULL ^ static_cast<uint64_t>(s + 1);
-        bool ok = true;
-        try {
-            cv::grabCut(bgr(roi), mask, cv::Rect(), bgdModel, fgdModel, iterations,
-                        cv::GC_INIT_WITH_MASK);
-        } catch (const cv::Exception&) {
-            ok = false;  // e.g. a degenerate colour model: leave this segment as it is
-        }
-        cv::theRNG().state = savedRng;
-        if (!ok) return cut;
-        cut.roi = roi;
-        cut.before = std::move(before);
-        cut.mask = std::move(mask);
+    }
+    return mask;
+}
+
+// GrabCut seeds its colour models with k-means on OpenCV's (thread-local) random generator: a
+// fixed seed per segment makes the result reproducible; the thread's generator state is
+// restored. False when GrabCut refuses (e.g. a degenerate colour model).
+bool seededGrabCut(const cv::Mat& bgr, const cv::Rect& roi, cv::Mat& mask, int iterations, int s) {
+    cv::Mat bgdModel, fgdModel;
+    const uint64_t savedRng = cv::theRNG().state;
+    cv::theRNG().state = 0x9e3779b97f4a7c15ULL ^ static_cast<uint64_t>(s + 1);
+    bool ok = true;
+    try {
+        cv::grabCut(bgr(roi), mask, cv::Rect(), bgdModel, fgdModel, iterations,
+                    cv::GC_INIT_WITH_MASK);
+    } catch (const cv::Exception&) {
+        ok = false;
+    }
+    cv::theRNG().state = savedRng;
+    return ok;
+}
+
+// GrabCut on segment s's band, over its bounding box widened by the margin. It reads the
+// labels and the image only, so segments can run in parallel.
+SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const Segment& seg, int s,
+                      const GrabCutParams& params) {
+    SegmentCut cut;
+    const int W = bgr.cols, H = bgr.rows;
+    if (seg.pixels < std::max(params.minPixels, 16L) ||
+        seg.pixels == static_cast<long>(labels.size()))
         return cut;
-    };
-    auto merge = [&](int s, const Cut& cut) {
+    const int margin = params.margin;
+    const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
+    const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
+    const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
+    long fg = 0, bg = 0;
+    cv::Mat mask = segmentTrimap(labels, W, s, roi, params.band, fg, bg);
+    if (fg < 16 || bg < 16) return cut;  // GrabCut's colour models need samples
+    cv::Mat before = mask.clone();
+    if (!seededGrabCut(bgr, roi, mask, params.iterations, s)) return cut;
+    cut.roi = roi;
+    cut.before = std::move(before);
+    cut.mask = std::move(mask);
+    return cut;
+}
+
+// What the segments' GrabCuts say about the pixels of their bands: a pixel leaves its segment
+// when its owner's GrabCut calls it background, for the segment of the nearest mean colour
+// whose GrabCut claims it (-1 when none does).
+struct BandVotes {
+    std::vector<uint8_t> ownerSaysBg;
+    std::vector<int> claim;
+    std::vector<float> claimDist;
+
+    explicit BandVotes(size_t n)
+        : ownerSaysBg(n, 0), claim(n, -1), claimDist(n, std::numeric_limits<float>::infinity()) {}
+
+    void add(const cv::Mat& bgr, int s, const Segment& seg, const SegmentCut& cut,
+             SegmentStats& st) {
         if (cut.mask.empty()) return;
-        const Segment& seg = segs[s];
+        const int W = bgr.cols;
         const cv::Rect& roi = cut.roi;
         ++st.grabCutSegments;
         st.grabCutPixels += static_cast<long>(roi.area());
@@ -326,22 +354,44 @@ long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, 
                 }
             }
         }
-    };
+    }
+
+    long apply(std::vector<int>& labels) const {
+        long changed = 0;
+        for (size_t p = 0; p < labels.size(); ++p)
+            if (ownerSaysBg[p] && claim[p] != labels[p]) {
+                labels[p] = claim[p];
+                ++changed;
+            }
+        return changed;
+    }
+};
+
+// Returns the pixels whose label changed; pixels no segment claims become -1.
+long refineWithGrabCut(const cv::Mat& bgr, std::vector<int>& labels, int count, int band,
+                       int iterations, long minPixels, int threads, SegmentStats& st) {
+    const auto segs = describeSegments(bgr, labels, count);
+    GrabCutParams params;
+    params.band = band;
+    params.iterations = iterations;
+    params.minPixels = minPixels;
+    params.margin = band + std::max(8, 2 * band);
+    BandVotes votes(labels.size());
+    // Segments run in parallel, a batch at a time, and are merged in segment order, so that
+    // the result does not depend on the thread count.
     const int workers = std::max(1, std::min(threadsToUse(threads), count));
     const int batch = 4 * workers;
     for (int first = 0; first < count; first += batch) {
         const int n = std::min(batch, count - first);
-        std::vector<Cut> cuts(static_cast<size_t>(n));
-        parallelFor(n, workers, [&](int k, int) { cuts[static_cast<size_t>(k)] = cutSegment(first + k); });
-        for (int k = 0; k < n; ++k) merge(first + k, cuts[static_cast<size_t>(k)]);
+        std::vector<SegmentCut> cuts(static_cast<size_t>(n));
+        parallelFor(n, workers, [&](int k, int) {
+            cuts[static_cast<size_t>(k)] =
+                cutSegment(bgr, labels, segs[first + k], first + k, params);
+        });
+        for (int k = 0; k < n; ++k)
+            votes.add(bgr, first + k, segs[first + k], cuts[static_cast<size_t>(k)], st);
     }
-    long changed = 0;
-    for (size_t p = 0; p < N; ++p)
-        if (ownerSaysBg[p] && claim[p] != labels[p]) {
-            labels[p] = claim[p];
-            ++changed;
-        }
-    return changed;
+    return votes.apply(labels);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -719,6 +769,65 @@ std::vector<int> upscaleToImage(const cv::Mat& small, const std::vector<int>& la
     return upscaleLabelsRefined(small, labels, bgr, options.threads, &st.borderRefined);
 }
 
+// `bgr` scaled down (area averaging) to at most maxPixels pixels; itself when it is no larger
+// or maxPixels is 0.
+cv::Mat downscaled(const cv::Mat& bgr, long maxPixels) {
+    const int W = bgr.cols, H = bgr.rows;
+    const long N = static_cast<long>(W) * H;
+    if (maxPixels <= 0 || N <= maxPixels) return bgr;
+    const double f = std::sqrt(static_cast<double>(maxPixels) / N);
+    const int ws = std::max(1, static_cast<int>(std::floor(W * f)));
+    const int hs = std::max(1, static_cast<int>(std::floor(H * f)));
+    cv::Mat small;
+    cv::resize(bgr, small, cv::Size(ws, hs), 0, 0, cv::INTER_AREA);
+    return small;
+}
+
+// (1) FH on the working image (`work`), its minimum size from minRegion scaled to it, and the
+// distinct pieces under that size lifted out (noiseSize: minRegion scaled).
+FhRun graphStage(const cv::Mat& work, long N, long minRegion, const SegmentOptions& options,
+                 SegmentStats& st) {
+    st.workWidth = work.cols;
+    st.workHeight = work.rows;
+    const double workShare = static_cast<double>(work.total()) / N;
+    const int wanted = options.segments > 0 ? options.segments : 12;
+    const int fhMinSize =
+        options.fhMinSize > 0
+            ? options.fhMinSize
+            : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
+                                                 std::floor(work.total() / (8.0 * wanted))}));
+    const int noiseSize =
+        static_cast<int>(std::max<double>(1.0, std::round(minRegion * workShare)));
+    const FhRun fh = graphSegment(work, options, fhMinSize, std::min(noiseSize, fhMinSize), st);
+    st.fhRegions = fh.rawCount;
+    st.fhCleanRegions = fh.count;
+    return fh;
+}
+
+// (2) GrabCut on each segment's boundary band, at full resolution up to grabCutPixels; the
+// labels at full size.
+std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhRun& fh,
+                              long minRegion, const SegmentOptions& options, SegmentStats& st) {
+    const int W = bgr.cols, H = bgr.rows;
+    const long N = static_cast<long>(W) * H;
+    if (!(options.grabCut && fh.count > 1 && W >= 8 && H >= 8))
+        return upscaleToImage(work, fh.labels, bgr, options, st);
+    const cv::Mat gc = downscaled(bgr, options.grabCutPixels);
+    st.grabCutWidth = gc.cols;
+    st.grabCutHeight = gc.rows;
+    std::vector<int> labels = upscaleLabels(fh.labels, work.cols, work.rows, gc.cols, gc.rows);
+    const double scale = static_cast<double>(gc.cols) / work.cols;
+    const int band =
+        options.band > 0 ? options.band : std::max(3, static_cast<int>(std::ceil(scale)) + 2);
+    const double gcShare = static_cast<double>(gc.total()) / N;
+    const long minPixels = std::lround(
+        (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
+    st.grabCutChanged =
+        refineWithGrabCut(gc, labels, fh.count, band, std::max(1, options.grabCutIterations),
+                          minPixels, options.threads, st);
+    return upscaleToImage(gc, labels, bgr, options, st);
+}
+
 }  // namespace
 
 Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
@@ -735,55 +844,13 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
         options.minRegion > 0 ? options.minRegion : std::max(64L, N / 1000);
     const cv::Mat bgr = toBgr8(image);
 
-    // (1) FH on the working image.
     auto t = Clock::now();
-    auto downscale = [&](long maxPixels) {
-        if (maxPixels <= 0 || N <= maxPixels) return bgr;
-        const double f = std::sqrt(static_cast<double>(maxPixels) / N);
-        const int ws = std::max(1, static_cast<int>(std::floor(W * f)));
-        const int hs = std::max(1, static_cast<int>(std::floor(H * f)));
-        cv::Mat small;
-        cv::resize(bgr, small, cv::Size(ws, hs), 0, 0, cv::INTER_AREA);
-        return small;
-    };
-    const cv::Mat work = downscale(options.workPixels);
-    st.workWidth = work.cols;
-    st.workHeight = work.rows;
-    const double workShare = static_cast<double>(work.total()) / N;
-    const int wanted = options.segments > 0 ? options.segments : 12;
-    const int fhMinSize =
-        options.fhMinSize > 0
-            ? options.fhMinSize
-            : static_cast<int>(std::max<double>({1.0, std::round(minRegion * workShare),
-                                                 std::floor(work.total() / (8.0 * wanted))}));
-    const int noiseSize =
-        static_cast<int>(std::max<double>(1.0, std::round(minRegion * workShare)));
-    const FhRun fh = graphSegment(work, options, fhMinSize, std::min(noiseSize, fhMinSize), st);
-    st.fhRegions = fh.rawCount;
-    st.fhCleanRegions = fh.count;
+    const cv::Mat work = downscaled(bgr, options.workPixels);
+    const FhRun fh = graphStage(work, N, minRegion, options, st);
     st.fhSeconds = secondsSince(t);
 
-    // (2) GrabCut on each segment's boundary band, at full resolution up to grabCutPixels.
     t = Clock::now();
-    if (options.grabCut && fh.count > 1 && W >= 8 && H >= 8) {
-        const cv::Mat gc = downscale(options.grabCutPixels);
-        st.grabCutWidth = gc.cols;
-        st.grabCutHeight = gc.rows;
-        std::vector<int> labels = upscaleLabels(fh.labels, work.cols, work.rows, gc.cols, gc.rows);
-        const double scale = static_cast<double>(gc.cols) / work.cols;
-        const int band = options.band > 0
-                             ? options.band
-                             : std::max(3, static_cast<int>(std::ceil(scale)) + 2);
-        const double gcShare = static_cast<double>(gc.total()) / N;
-        const long minPixels = std::lround(
-            (options.grabCutMinPixels > 0 ? options.grabCutMinPixels : minRegion) * gcShare);
-        st.grabCutChanged = refineWithGrabCut(gc, labels, fh.count, band,
-                                              std::max(1, options.grabCutIterations),
-                                              minPixels, options.threads, st);
-        seg.labels = upscaleToImage(gc, labels, bgr, options, st);
-    } else {
-        seg.labels = upscaleToImage(work, fh.labels, bgr, options, st);
-    }
+    seg.labels = grabCutStage(bgr, work, fh, minRegion, options, st);
     st.grabCutSeconds = secondsSince(t);
 
     // (3) Region growing into what GrabCut left unclaimed.

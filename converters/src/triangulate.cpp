@@ -211,6 +211,236 @@ std::vector<Vec2> placeSamples(const Region& region, const std::vector<float>& s
     return diffuseSamples(region, region.mask, saliency, options);
 }
 
+namespace {
+
+// The pixels of the region whose centres are at least `clearance` from every loop edge (found
+// through a grid of the edges' widened bounding boxes): samples go only there.
+std::vector<uint8_t> pixelsClearOfLoops(const Region& region, const TriMesh& mesh,
+                                        const std::vector<Vec2>& pts, int outerCount, int loopCount,
+                                        double clearance) {
+    double minX = pts[0].x, minY = pts[0].y, maxX = minX, maxY = minY;
+    for (int k = 0; k < loopCount; ++k) {
+        minX = std::min(minX, pts[k].x), maxX = std::max(maxX, pts[k].x);
+        minY = std::min(minY, pts[k].y), maxY = std::max(maxY, pts[k].y);
+    }
+    const double cell = std::max(2.0, 2 * clearance);
+    const int gw = static_cast<int>((maxX - minX) / cell) + 1;
+    const int gh = static_cast<int>((maxY - minY) / cell) + 1;
+    std::vector<std::vector<std::pair<int, int>>> grid(static_cast<size_t>(gw) * gh);
+    auto addLoop = [&](int first, int size) {
+        for (int k = 0; k < size; ++k) {
+            const int a = first + k, b = first + (k + 1) % size;
+            const int cx0 = std::max(
+                0, static_cast<int>((std::min(pts[a].x, pts[b].x) - clearance - minX) / cell));
+            const int cx1 = std::min(
+                gw - 1, static_cast<int>((std::max(pts[a].x, pts[b].x) + clearance - minX) / cell));
+            const int cy0 = std::max(
+                0, static_cast<int>((std::min(pts[a].y, pts[b].y) - clearance - minY) / cell));
+            const int cy1 = std::min(
+                gh - 1, static_cast<int>((std::max(pts[a].y, pts[b].y) + clearance - minY) / cell));
+            for (int cy = cy0; cy <= cy1; ++cy)
+                for (int cx = cx0; cx <= cx1; ++cx) grid[cy * gw + cx].push_back({a, b});
+        }
+    };
+    addLoop(0, outerCount);
+    for (const auto& loop : mesh.holeLoops) addLoop(loop.front(), static_cast<int>(loop.size()));
+    auto isClear = [&](Vec2 s) {
+        const int cx = static_cast<int>((s.x - minX) / cell),
+                  cy = static_cast<int>((s.y - minY) / cell);
+        if (cx < 0 || cy < 0 || cx >= gw || cy >= gh) return false;
+        for (const auto& [a, b] : grid[cy * gw + cx])
+            if (pointSegmentDistance(s, pts[a], pts[b]) < clearance) return false;
+        return true;
+    };
+    std::vector<uint8_t> allowed = region.mask;
+    for (int y = 0; y < region.height; ++y)
+        for (int x = 0; x < region.width; ++x) {
+            uint8_t& a = allowed[static_cast<size_t>(y) * region.width + x];
+            if (a && !isClear({x + 0.5, y + 0.5})) a = 0;
+        }
+    return allowed;
+}
+
+// The constrained Delaunay triangulation of a region: its loops resampled, saliency-placed
+// samples inside, Steiner points where a triangle would map to zero area.
+class RegionTriangulator {
+public:
+    RegionTriangulator(const Region& region, const RegionCorners& corners,
+                       const TriangulateOptions& options, TriangulateStats* stats)
+        : region_(region), corners_(corners), options_(options), stats_(stats) {}
+
+    TriMesh run(const std::vector<float>& saliency) {
+        const double spacing = 1 / std::sqrt(std::clamp(options_.sampleFraction, 1e-6, 1.0));
+        const double clearance = std::max(0.5, options_.boundaryClearance * spacing);
+        appendLoops(spacing);
+        const std::vector<uint8_t> allowed =
+            pixelsClearOfLoops(region_, mesh_, pts_, outerCount_, loopCount_, clearance);
+        placed_ = diffuseSamples(region_, allowed, saliency, options_);
+        for (const Vec2 s : placed_) pts_.push_back(s);
+        if (stats_) {
+            stats_->samplesPlaced = static_cast<int>(placed_.size());
+            stats_->loopVertices = loopCount_;
+            stats_->steinerPoints = 0;
+        }
+        markSidesAndHoles();
+        insertPointsAndLoops();
+        markDomain(cdt_);
+        splitDegenerateFaces();
+        collectDomain();
+        return std::move(mesh_);
+    }
+
+private:
+    // Points: the outer loop from the top-left corner, then the hole loops.
+    void appendLoops(double spacing) {
+        const std::vector<int> outerPos =
+            appendResampledLoop(region_.outer.points, corners_.index[0], spacing, pts_);
+        outerCount_ = static_cast<int>(pts_.size());
+        mesh_.outerLoop.resize(outerCount_);
+        for (int k = 0; k < outerCount_; ++k) mesh_.outerLoop[k] = k;
+        for (int c = 0; c < 4; ++c) mesh_.corner[c] = outerPos[corners_.index[c]];
+        for (const Polygon& hole : region_.holes) {
+            const int first = static_cast<int>(pts_.size());
+            appendResampledLoop(hole.points, 0, spacing, pts_);
+            std::vector<int> loop;
+            for (int k = first; k < static_cast<int>(pts_.size()); ++k) loop.push_back(k);
+            mesh_.holeLoops.push_back(std::move(loop));
+        }
+        loopCount_ = static_cast<int>(pts_.size());
+    }
+
+    // Which rectangle sides (bit k: side k, from corner k to corner k+1) and which hole each
+    // vertex lies on.
+    void markSidesAndHoles() {
+        sides_.assign(pts_.size(), 0);
+        holeOf_.assign(pts_.size(), -1);
+        for (int c = 0; c < 4; ++c) {
+            const int from = mesh_.corner[c], to = c == 3 ? outerCount_ : mesh_.corner[c + 1];
+            for (int k = from; k <= to; ++k)
+                sides_[k % outerCount_] |= static_cast<uint8_t>(1u << c);
+        }
+        for (size_t hIdx = 0; hIdx < mesh_.holeLoops.size(); ++hIdx)
+            for (int v : mesh_.holeLoops[hIdx]) holeOf_[v] = static_cast<int>(hIdx);
+    }
+
+    void insertPointsAndLoops() {
+        handle_.resize(pts_.size());
+        std::vector<std::pair<CdtPoint, int>> input;
+        input.reserve(pts_.size());
+        for (size_t k = 0; k < pts_.size(); ++k)
+            input.push_back({CdtPoint(pts_[k].x, pts_[k].y), static_cast<int>(k)});
+        cdt_.insert(input.begin(), input.end());
+        for (auto v = cdt_.finite_vertices_begin(); v != cdt_.finite_vertices_end(); ++v)
+            handle_[v->info()] = v;
+        for (int k = 0; k < loopCount_; ++k)
+            if (handle_[k] == Cdt::Vertex_handle() || handle_[k]->info() != k)
+                throw Error("the region's loops repeat the point (" + std::to_string(pts_[k].x) +
+                            ", " + std::to_string(pts_[k].y) + ")");
+        try {
+            for (int k = 0; k < outerCount_; ++k)
+                cdt_.insert_constraint(handle_[k], handle_[(k + 1) % outerCount_]);
+            for (const auto& loop : mesh_.holeLoops)
+                for (size_t k = 0; k < loop.size(); ++k)
+                    cdt_.insert_constraint(handle_[loop[k]], handle_[loop[(k + 1) % loop.size()]]);
+        } catch (const Cdt::Intersection_of_constraints_exception&) {
+            throw Error("the region's outline crosses itself or a hole");
+        }
+    }
+
+    bool shareSideOrHole(int a, int b) const {
+        return (sides_[a] & sides_[b]) != 0 || (holeOf_[a] >= 0 && holeOf_[a] == holeOf_[b]);
+    }
+
+    // Centroids of domain faces with all three vertices on one side or one hole, and midpoints
+    // of unconstrained edges between two vertices of one side or hole.
+    std::vector<Vec2> degeneratePoints() const {
+        std::vector<Vec2> steiner;
+        std::set<std::pair<int, int>> splitEdges;  // by vertex ids: the same on every run
+        for (auto f = cdt_.finite_faces_begin(); f != cdt_.finite_faces_end(); ++f) {
+            if (!inDomain(f)) continue;
+            const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
+            const bool sameSide = (sides_[a] & sides_[b] & sides_[c]) != 0;
+            const bool sameHole =
+                holeOf_[a] >= 0 && holeOf_[a] == holeOf_[b] && holeOf_[a] == holeOf_[c];
+            if (sameSide || sameHole) {
+                steiner.push_back((1.0 / 3) * (pts_[a] + pts_[b] + pts_[c]));
+                continue;
+            }
+            for (int i = 0; i < 3; ++i) {
+                if (cdt_.is_constrained(Cdt::Edge(f, i))) continue;
+                const int u = f->vertex(Cdt::ccw(i))->info(), v = f->vertex(Cdt::cw(i))->info();
+                // Each edge once (not by face address: that would differ from run to run).
+                if (shareSideOrHole(u, v) && splitEdges.insert({std::min(u, v), std::max(u, v)}).second)
+                    steiner.push_back(0.5 * (pts_[u] + pts_[v]));
+            }
+        }
+        return steiner;
+    }
+
+    // Split whatever would map to zero area, until nothing is left to split. Each Steiner point
+    // replaces only faces in its conflict zone by faces that have it as a vertex, so every round
+    // removes the offending faces and edges without creating new ones.
+    void splitDegenerateFaces() {
+        for (int round = 0; round < 100; ++round) {
+            const std::vector<Vec2> steiner = degeneratePoints();
+            if (steiner.empty()) break;
+            for (const Vec2 s : steiner) {
+                const auto before = cdt_.number_of_vertices();
+                const auto v = cdt_.insert(CdtPoint(s.x, s.y));
+                if (cdt_.number_of_vertices() > before) {
+                    v->info() = static_cast<int>(pts_.size());
+                    pts_.push_back(s);
+                    sides_.push_back(0);
+                    holeOf_.push_back(-1);
+                    handle_.push_back(v);
+                }
+            }
+            if (stats_) stats_->steinerPoints += static_cast<int>(steiner.size());
+            markDomain(cdt_);
+        }
+    }
+
+    // Output: vertices of domain faces, loops first and in order (they all bound a domain face).
+    void collectDomain() {
+        std::vector<int> newIndex(pts_.size(), -1);
+        for (int k = 0; k < loopCount_; ++k) newIndex[k] = k;
+        mesh_.vertices.assign(pts_.begin(), pts_.begin() + loopCount_);
+        for (auto f = cdt_.finite_faces_begin(); f != cdt_.finite_faces_end(); ++f) {
+            if (!inDomain(f)) continue;
+            std::array<int, 3> tri{};
+            for (int i = 0; i < 3; ++i) {
+                const int old = f->vertex(i)->info();
+                if (newIndex[old] < 0) {
+                    newIndex[old] = static_cast<int>(mesh_.vertices.size());
+                    mesh_.vertices.push_back(pts_[old]);
+                }
+                tri[i] = newIndex[old];
+            }
+            mesh_.triangles.push_back(tri);  // CGAL faces are counterclockwise: positive area here
+        }
+        if (stats_) {
+            stats_->samplesKept = 0;
+            for (size_t k = loopCount_; k < loopCount_ + placed_.size(); ++k)
+                stats_->samplesKept += newIndex[k] >= 0;
+        }
+    }
+
+    const Region& region_;
+    const RegionCorners& corners_;
+    const TriangulateOptions& options_;
+    TriangulateStats* stats_;
+    TriMesh mesh_;
+    std::vector<Vec2> pts_;
+    int outerCount_ = 0, loopCount_ = 0;
+    std::vector<Vec2> placed_;
+    std::vector<uint8_t> sides_;
+    std::vector<int> holeOf_;
+    Cdt cdt_;
+    std::vector<Cdt::Vertex_handle> handle_;
+};
+
+}  // namespace
+
 TriMesh triangulateRegion(const RgbaImage& image, const Region& region,
                           const RegionCorners& corners, const TriangulateOptions& options,
                           TriangulateStats* stats) {
@@ -219,177 +449,7 @@ TriMesh triangulateRegion(const RgbaImage& image, const Region& region,
     for (int c = 0; c < 4; ++c)
         if (corners.index[c] < 0 || corners.index[c] >= nOuter)
             throw Error("corner " + std::to_string(c) + " is not a point of the outer loop");
-
-    const double spacing = 1 / std::sqrt(std::clamp(options.sampleFraction, 1e-6, 1.0));
-    const double clearance = std::max(0.5, options.boundaryClearance * spacing);
-
-    // Points: the outer loop from the top-left corner, the hole loops, then the samples.
-    TriMesh mesh;
-    std::vector<Vec2> pts;
-    const std::vector<int> outerPos =
-        appendResampledLoop(region.outer.points, corners.index[0], spacing, pts);
-    const int outerCount = static_cast<int>(pts.size());
-    mesh.outerLoop.resize(outerCount);
-    for (int k = 0; k < outerCount; ++k) mesh.outerLoop[k] = k;
-    for (int c = 0; c < 4; ++c) mesh.corner[c] = outerPos[corners.index[c]];
-    for (const Polygon& hole : region.holes) {
-        const int first = static_cast<int>(pts.size());
-        appendResampledLoop(hole.points, 0, spacing, pts);
-        std::vector<int> loop;
-        for (int k = first; k < static_cast<int>(pts.size()); ++k) loop.push_back(k);
-        mesh.holeLoops.push_back(std::move(loop));
-    }
-    const int loopCount = static_cast<int>(pts.size());
-
-    // Loop segments in a grid to find pixels too close to them; samples go only to the others.
-    std::vector<Vec2> placed;
-    {
-        double minX = pts[0].x, minY = pts[0].y, maxX = minX, maxY = minY;
-        for (int k = 0; k < loopCount; ++k) {
-            minX = std::min(minX, pts[k].x), maxX = std::max(maxX, pts[k].x);
-            minY = std::min(minY, pts[k].y), maxY = std::max(maxY, pts[k].y);
-        }
-        const double cell = std::max(2.0, 2 * clearance);
-        const int gw = static_cast<int>((maxX - minX) / cell) + 1;
-        const int gh = static_cast<int>((maxY - minY) / cell) + 1;
-        std::vector<std::vector<std::pair<int, int>>> grid(static_cast<size_t>(gw) * gh);
-        auto addLoop = [&](int first, int size) {
-            for (int k = 0; k < size; ++k) {
-                const int a = first + k, b = first + (k + 1) % size;
-                const int cx0 = std::max(0, static_cast<int>((std::min(pts[a].x, pts[b].x) - clearance - minX) / cell));
-                const int cx1 = std::min(gw - 1, static_cast<int>((std::max(pts[a].x, pts[b].x) + clearance - minX) / cell));
-                const int cy0 = std::max(0, static_cast<int>((std::min(pts[a].y, pts[b].y) - clearance - minY) / cell));
-                const int cy1 = std::min(gh - 1, static_cast<int>((std::max(pts[a].y, pts[b].y) + clearance - minY) / cell));
-                for (int cy = cy0; cy <= cy1; ++cy)
-                    for (int cx = cx0; cx <= cx1; ++cx) grid[cy * gw + cx].push_back({a, b});
-            }
-        };
-        addLoop(0, outerCount);
-        for (const auto& loop : mesh.holeLoops)
-            addLoop(loop.front(), static_cast<int>(loop.size()));
-        auto isClear = [&](Vec2 s) {
-            const int cx = static_cast<int>((s.x - minX) / cell), cy = static_cast<int>((s.y - minY) / cell);
-            if (cx < 0 || cy < 0 || cx >= gw || cy >= gh) return false;
-            for (const auto& [a, b] : grid[cy * gw + cx])
-                if (pointSegmentDistance(s, pts[a], pts[b]) < clearance) return false;
-            return true;
-        };
-        std::vector<uint8_t> allowed = region.mask;
-        for (int y = 0; y < region.height; ++y)
-            for (int x = 0; x < region.width; ++x) {
-                uint8_t& a = allowed[static_cast<size_t>(y) * region.width + x];
-                if (a && !isClear({x + 0.5, y + 0.5})) a = 0;
-            }
-        placed = diffuseSamples(region, allowed, saliency, options);
-        for (const Vec2 s : placed) pts.push_back(s);
-    }
-    if (stats) {
-        stats->samplesPlaced = static_cast<int>(placed.size());
-        stats->loopVertices = loopCount;
-        stats->steinerPoints = 0;
-    }
-
-    // Which rectangle sides (bit k: side k, from corner k to corner k+1) and which hole each
-    // vertex lies on.
-    std::vector<uint8_t> sides(pts.size(), 0);
-    std::vector<int> holeOf(pts.size(), -1);
-    for (int c = 0; c < 4; ++c) {
-        const int from = mesh.corner[c], to = c == 3 ? outerCount : mesh.corner[c + 1];
-        for (int k = from; k <= to; ++k) sides[k % outerCount] |= static_cast<uint8_t>(1u << c);
-    }
-    for (size_t hIdx = 0; hIdx < mesh.holeLoops.size(); ++hIdx)
-        for (int v : mesh.holeLoops[hIdx]) holeOf[v] = static_cast<int>(hIdx);
-
-    Cdt cdt;
-    std::vector<Cdt::Vertex_handle> handle(pts.size());
-    {
-        std::vector<std::pair<CdtPoint, int>> input;
-        input.reserve(pts.size());
-        for (size_t k = 0; k < pts.size(); ++k)
-            input.push_back({CdtPoint(pts[k].x, pts[k].y), static_cast<int>(k)});
-        cdt.insert(input.begin(), input.end());
-        for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
-            handle[v->info()] = v;
-        for (int k = 0; k < loopCount; ++k)
-            if (handle[k] == Cdt::Vertex_handle() || handle[k]->info() != k)
-                throw Error("the region's loops repeat the point (" + std::to_string(pts[k].x) +
-                            ", " + std::to_string(pts[k].y) + ")");
-    }
-    try {
-        for (int k = 0; k < outerCount; ++k)
-            cdt.insert_constraint(handle[k], handle[(k + 1) % outerCount]);
-        for (const auto& loop : mesh.holeLoops)
-            for (size_t k = 0; k < loop.size(); ++k)
-                cdt.insert_constraint(handle[loop[k]], handle[loop[(k + 1) % loop.size()]]);
-    } catch (const Cdt::Intersection_of_constraints_exception&) {
-        throw Error("the region's outline crosses itself or a hole");
-    }
-    markDomain(cdt);
-
-    // Split whatever would map to zero area, until nothing is left to split. Each Steiner point
-    // replaces only faces in its conflict zone by faces that have it as a vertex, so every round
-    // removes the offending faces and edges without creating new ones.
-    auto shareSideOrHole = [&](int a, int b) {
-        return (sides[a] & sides[b]) != 0 || (holeOf[a] >= 0 && holeOf[a] == holeOf[b]);
-    };
-    for (int round = 0; round < 100; ++round) {
-        std::vector<Vec2> steiner;
-        std::set<std::pair<int, int>> splitEdges;  // by vertex ids: the same on every run
-        for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-            if (!inDomain(f)) continue;
-            const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
-            const bool sameSide = (sides[a] & sides[b] & sides[c]) != 0;
-            const bool sameHole = holeOf[a] >= 0 && holeOf[a] == holeOf[b] && holeOf[a] == holeOf[c];
-            if (sameSide || sameHole) {
-                steiner.push_back((1.0 / 3) * (pts[a] + pts[b] + pts[c]));
-                continue;
-            }
-            for (int i = 0; i < 3; ++i) {
-                if (cdt.is_constrained(Cdt::Edge(f, i))) continue;
-                const int u = f->vertex(Cdt::ccw(i))->info(), v = f->vertex(Cdt::cw(i))->info();
-                // Each edge once (not by face address: that would differ from run to run).
-                if (shareSideOrHole(u, v) && splitEdges.insert({std::min(u, v), std::max(u, v)}).second)
-                    steiner.push_back(0.5 * (pts[u] + pts[v]));
-            }
-        }
-        if (steiner.empty()) break;
-        for (const Vec2 s : steiner) {
-            const auto before = cdt.number_of_vertices();
-            const auto v = cdt.insert(CdtPoint(s.x, s.y));
-            if (cdt.number_of_vertices() > before) {
-                v->info() = static_cast<int>(pts.size());
-                pts.push_back(s);
-                sides.push_back(0);
-                holeOf.push_back(-1);
-                handle.push_back(v);
-            }
-        }
-        if (stats) stats->steinerPoints += static_cast<int>(steiner.size());
-        markDomain(cdt);
-    }
-
-    // Output: vertices of domain faces, loops first and in order (they all bound a domain face).
-    std::vector<int> newIndex(pts.size(), -1);
-    for (int k = 0; k < loopCount; ++k) newIndex[k] = k;
-    mesh.vertices.assign(pts.begin(), pts.begin() + loopCount);
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-        if (!inDomain(f)) continue;
-        std::array<int, 3> tri{};
-        for (int i = 0; i < 3; ++i) {
-            const int old = f->vertex(i)->info();
-            if (newIndex[old] < 0) {
-                newIndex[old] = static_cast<int>(mesh.vertices.size());
-                mesh.vertices.push_back(pts[old]);
-            }
-            tri[i] = newIndex[old];
-        }
-        mesh.triangles.push_back(tri);  // CGAL faces are counterclockwise: positive area here
-    }
-    if (stats) {
-        stats->samplesKept = 0;
-        for (size_t k = loopCount; k < loopCount + placed.size(); ++k) stats->samplesKept += newIndex[k] >= 0;
-    }
-    return mesh;
+    return RegionTriangulator(region, corners, options, stats).run(saliency);
 }
 
 }  // namespace gm

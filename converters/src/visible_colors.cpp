@@ -27,19 +27,19 @@ int threadCount(int threads) { return threadsToUse(threads); }
 
 FitError errorOf(const Document& doc, const RgbaImage& image, const std::vector<uint8_t>& mask,
                  int threads) {
-    RenderOptions ro;
-    ro.threads = threads;
-    return compareOverMask(image, renderDocument(doc, ro).image, mask);
+    RenderOptions renderOptions;
+    renderOptions.threads = threads;
+    return compareOverMask(image, renderDocument(doc, renderOptions).image, mask);
 }
 
 // The document's render samples: per pixel the topmost mesh covering its centre (antialias off,
 // as colors.cpp renders for its fits).
 std::vector<PixelSample> documentSamples(const Document& doc, int threads) {
-    RenderOptions ro;
-    ro.wantSamples = true;
-    ro.antialias = false;
-    ro.threads = threads;
-    return renderDocument(doc, ro).samples;
+    RenderOptions renderOptions;
+    renderOptions.wantSamples = true;
+    renderOptions.antialias = false;
+    renderOptions.threads = threads;
+    return renderDocument(doc, renderOptions).samples;
 }
 
 // refitVisibleColors with the document's samples given (one render serves refits of the same
@@ -64,14 +64,14 @@ Document refitWithSamples(const Document& doc, const RgbaImage& image,
         for (size_t p = 0; p < samples.size(); ++p)
             if (mask[p] && samples[p].mesh == static_cast<int>(k)) region.mask[p] = 1;
         region.pixelCount = pixels[k];
-        ColorOptions co;
+        ColorOptions colorOptions;
         // A Bicubic mesh stays Bicubic: its colours are all there is to refit.
         const bool bicubic = doc.meshes[k].colorModel == ColorModel::Bicubic;
-        co.mode = bicubic ? ColorMode::FitBicubic : mode;
-        co.threads = 1;
-        co.warmStart = true;  // the colours given are near the refit's
-        out.meshes[k] =
-            fitColorsToSamples(doc.meshes[k], image, region, samples, static_cast<int>(k), co);
+        colorOptions.mode = bicubic ? ColorMode::FitBicubic : mode;
+        colorOptions.threads = 1;
+        colorOptions.warmStart = true;  // the colours given are near the refit's
+        out.meshes[k] = fitColorsToSamples(doc.meshes[k], image, region, samples,
+                                           static_cast<int>(k), colorOptions);
     };
     parallelFor(static_cast<int>(doc.meshes.size()), threadCount(threads), refit);
     return out;

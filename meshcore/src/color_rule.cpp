@@ -78,98 +78,116 @@ void addUnique(std::vector<std::pair<size_t, double>>& uses, size_t slot, double
     uses.emplace_back(slot, sign);
 }
 
-Sides collectSides(const GradientMesh& mesh, const Layout& layout) {
-    Sides sides;
-    const int C = mesh.columns(), R = mesh.rows();
-    if (C < 1 || R < 1) return sides;
+// The sides of every patch edge end, line by line: u-lines along the rows, v-lines down the
+// columns, each line's Inkscape slopes computed once for all the patches that see it.
+class SideCollector {
+public:
+    SideCollector(const GradientMesh& mesh, const Layout& layout)
+        : mesh_(mesh), layout_(layout), C_(mesh.columns()), R_(mesh.rows()) {}
 
-    std::vector<int> cutRows{0, R};
-    for (const Slit& s : mesh.slits) cutRows.push_back(s.row);
-    std::sort(cutRows.begin(), cutRows.end());
-    cutRows.erase(std::unique(cutRows.begin(), cutRows.end()), cutRows.end());
-    auto isSlitRow = [&](int j) {
-        for (const Slit& s : mesh.slits) {
+    Sides run() {
+        if (C_ < 1 || R_ < 1) return sides_;
+        for (int j = 0; j <= R_; ++j)
+            for (const std::vector<int>& patchRows : patchRowsSeeing(j)) uLine(j, patchRows);
+        const std::vector<int> cuts = cutRows();
+        for (size_t band = 0; band + 1 < cuts.size(); ++band)
+            for (int i = 0; i <= C_; ++i) vLine(cuts[band], cuts[band + 1], i);
+        return std::move(sides_);
+    }
+
+private:
+    bool isSlitRow(int j) const {
+        for (const Slit& s : mesh_.slits) {
             if (s.row == j) return true;
         }
         return false;
-    };
+    }
 
-    std::vector<const Node*> line;
-    std::vector<Vec3> g;
-    std::vector<double> chords;
-    std::vector<std::pair<size_t, double>> uses;
+    // The groups of patch rows that see node row j as one line: the rows on both sides, or
+    // above and below separately at a row that holds slits.
+    std::vector<std::vector<int>> patchRowsSeeing(int j) const {
+        if (isSlitRow(j)) return {{j - 1}, {j}};
+        std::vector<int> both;
+        if (j > 0) both.push_back(j - 1);
+        if (j < R_) both.push_back(j);
+        return {both};
+    }
 
-    // u-lines: along each row, once for the patches on both sides, or separately above and below
-    // a row that holds slits.
-    for (int j = 0; j <= R; ++j) {
-        std::vector<std::vector<int>> groups;  // patch rows that see one line
-        if (isSlitRow(j)) {
-            groups = {{j - 1}, {j}};
-        } else {
-            std::vector<int> both;
-            if (j > 0) both.push_back(j - 1);
-            if (j < R) both.push_back(j);
-            groups.push_back(both);
+    // The mesh's border rows and every row that holds slits: v-lines are cut there.
+    std::vector<int> cutRows() const {
+        std::vector<int> rows{0, R_};
+        for (const Slit& s : mesh_.slits) rows.push_back(s.row);
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        return rows;
+    }
+
+    // The u-line along node row j as the patch rows `patchRows` see it.
+    void uLine(int j, const std::vector<int>& patchRows) {
+        const int pr0 = patchRows.front();
+        line_.clear();
+        for (int n = 0; n <= C_; ++n) {
+            const int i = std::min(n, C_ - 1);
+            const CornerUse use = resolveCorner(mesh_, layout_, i, pr0, n - i, pr0 == j ? 0 : 1);
+            line_.push_back(&nodeCopy(mesh_, layout_, use.node));
         }
-        for (const std::vector<int>& patchRows : groups) {
-            const int pr0 = patchRows.front();
-            line.clear();
-            for (int n = 0; n <= C; ++n) {
-                const int i = std::min(n, C - 1);
-                const CornerUse use = resolveCorner(mesh, layout, i, pr0, n - i, pr0 == j ? 0 : 1);
-                line.push_back(&nodeCopy(mesh, layout, use.node));
-            }
-            lineSlopes(line, g, chords);
-            for (int i = 0; i < C; ++i) {
-                const double du = mesh.u[i + 1] - mesh.u[i];
-                for (int a = 0; a < 2; ++a) {
-                    uses.clear();
-                    for (int pr : patchRows) {
-                        const CornerUse use =
-                            resolveCorner(mesh, layout, i, pr, a, pr == j ? 0 : 1);
-                        addUnique(uses, use.uSlot, use.uSign);
-                    }
-                    for (const auto& p : uses) {
-                        sides.u.push_back({p.first, p.second, du, chords[i] * g[i + a]});
-                    }
+        lineSlopes(line_, slopes_, chords_);
+        for (int i = 0; i < C_; ++i) {
+            const double du = mesh_.u[i + 1] - mesh_.u[i];
+            for (int a = 0; a < 2; ++a) {
+                uses_.clear();
+                for (int pr : patchRows) {
+                    const CornerUse use = resolveCorner(mesh_, layout_, i, pr, a, pr == j ? 0 : 1);
+                    addUnique(uses_, use.uSlot, use.uSign);
+                }
+                for (const auto& p : uses_) {
+                    sides_.u.push_back({p.first, p.second, du, chords_[i] * slopes_[i + a]});
                 }
             }
         }
     }
 
-    // v-lines: each column, cut at every row that holds slits.
-    for (size_t band = 0; band + 1 < cutRows.size(); ++band) {
-        const int r0 = cutRows[band], r1 = cutRows[band + 1];
-        for (int i = 0; i <= C; ++i) {
-            std::vector<int> patchCols;
-            if (i > 0) patchCols.push_back(i - 1);
-            if (i < C) patchCols.push_back(i);
-            const int pc0 = patchCols.front();
-            line.clear();
-            for (int n = r0; n <= r1; ++n) {
-                const int r = std::min(n, r1 - 1);
-                const CornerUse use = resolveCorner(mesh, layout, pc0, r, pc0 == i ? 0 : 1, n - r);
-                line.push_back(&nodeCopy(mesh, layout, use.node));
-            }
-            lineSlopes(line, g, chords);
-            for (int r = r0; r < r1; ++r) {
-                const double dv = mesh.v[r + 1] - mesh.v[r];
-                for (int b = 0; b < 2; ++b) {
-                    uses.clear();
-                    for (int pc : patchCols) {
-                        const CornerUse use =
-                            resolveCorner(mesh, layout, pc, r, pc == i ? 0 : 1, b);
-                        addUnique(uses, use.node, 1.0);
-                    }
-                    const size_t k = static_cast<size_t>(r - r0);
-                    for (const auto& p : uses) {
-                        sides.v.push_back({p.first, 1.0, dv, chords[k] * g[k + b]});
-                    }
+    // The v-line down node column i between the cut rows r0 and r1.
+    void vLine(int r0, int r1, int i) {
+        std::vector<int> patchCols;
+        if (i > 0) patchCols.push_back(i - 1);
+        if (i < C_) patchCols.push_back(i);
+        const int pc0 = patchCols.front();
+        line_.clear();
+        for (int n = r0; n <= r1; ++n) {
+            const int r = std::min(n, r1 - 1);
+            const CornerUse use = resolveCorner(mesh_, layout_, pc0, r, pc0 == i ? 0 : 1, n - r);
+            line_.push_back(&nodeCopy(mesh_, layout_, use.node));
+        }
+        lineSlopes(line_, slopes_, chords_);
+        for (int r = r0; r < r1; ++r) {
+            const double dv = mesh_.v[r + 1] - mesh_.v[r];
+            for (int b = 0; b < 2; ++b) {
+                uses_.clear();
+                for (int pc : patchCols) {
+                    const CornerUse use = resolveCorner(mesh_, layout_, pc, r, pc == i ? 0 : 1, b);
+                    addUnique(uses_, use.node, 1.0);
+                }
+                const size_t k = static_cast<size_t>(r - r0);
+                for (const auto& p : uses_) {
+                    sides_.v.push_back({p.first, 1.0, dv, chords_[k] * slopes_[k + b]});
                 }
             }
         }
     }
-    return sides;
+
+    const GradientMesh& mesh_;
+    const Layout& layout_;
+    const int C_, R_;
+    Sides sides_;
+    std::vector<const Node*> line_;
+    std::vector<Vec3> slopes_;
+    std::vector<double> chords_;
+    std::vector<std::pair<size_t, double>> uses_;
+};
+
+Sides collectSides(const GradientMesh& mesh, const Layout& layout) {
+    return SideCollector(mesh, layout).run();
 }
 
 // x = Σ σ·t / Σ Δ per slot; 0 for a slot that serves nothing.

@@ -120,74 +120,117 @@ void lendSamples(StripBuffers& B, int W, int H) {
     }
 }
 
-void renderLayer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
-                 Target& target) {
-    RgbaImage& image = *target.image;
-    const int imageW = image.width, imageH = image.height;
-    if (imageW <= 0 || imageH <= 0) return;
-    const PreparedMesh pm = prepareMesh(mesh, options, imageW, imageH);
-    if (pm.maxX < pm.minX) return;  // nothing finite
+// One mesh drawn as a layer over its bounding box (one pixel of margin, clipped to the image),
+// strip by strip, and composited over the target.
+class LayerRenderer {
+public:
+    LayerRenderer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
+                  Target& target)
+        : mesh_(mesh),
+          meshIndex_(meshIndex),
+          options_(options),
+          target_(target),
+          image_(*target.image) {}
 
+    void run() {
+        const int imageW = image_.width, imageH = image_.height;
+        if (imageW <= 0 || imageH <= 0) return;
+        pm_ = prepareMesh(mesh_, options_, imageW, imageH);
+        if (pm_.maxX < pm_.minX) return;  // nothing finite
+        if (!placeLayer()) return;
+        if (options_.antialias) traceOutline();
+        findPatchRows();
+
+        const int strips = (height_ + kStripRows - 1) / kStripRows;
+        const int workers = std::max(1, std::min(target_.threads, strips));
+        std::vector<StripBuffers> buffers(static_cast<size_t>(workers));
+        std::atomic<size_t> triangleCount{0};
+        parallelFor(strips, workers, [&](int strip, int worker) {
+            triangleCount += renderStrip(strip, buffers[static_cast<size_t>(worker)]);
+        });
+        target_.triangles += triangleCount.load();
+    }
+
+private:
     // The layer: the mesh's bounds with one pixel of margin (anti-aliasing, fixed-point
-    // rounding), clipped to the image.
-    const double bx0 = std::max(0.0, std::floor(pm.minX) - 1);
-    const double by0 = std::max(0.0, std::floor(pm.minY) - 1);
-    const double bx1 = std::min<double>(imageW, std::ceil(pm.maxX) + 2);
-    const double by1 = std::min<double>(imageH, std::ceil(pm.maxY) + 2);
-    if (!(bx1 > bx0 && by1 > by0)) return;
-    const int originX = static_cast<int>(bx0), originY = static_cast<int>(by0);
-    const int width = static_cast<int>(bx1) - originX, height = static_cast<int>(by1) - originY;
+    // rounding), clipped to the image. False when nothing of it is inside.
+    bool placeLayer() {
+        const double bx0 = std::max(0.0, std::floor(pm_.minX) - 1);
+        const double by0 = std::max(0.0, std::floor(pm_.minY) - 1);
+        const double bx1 = std::min<double>(image_.width, std::ceil(pm_.maxX) + 2);
+        const double by1 = std::min<double>(image_.height, std::ceil(pm_.maxY) + 2);
+        if (!(bx1 > bx0 && by1 > by0)) return false;
+        originX_ = static_cast<int>(bx0);
+        originY_ = static_cast<int>(by0);
+        width_ = static_cast<int>(bx1) - originX_;
+        height_ = static_cast<int>(by1) - originY_;
+        return true;
+    }
 
-    std::vector<std::vector<Vec2>> loops;
-    if (options.antialias) {
-        double tol = options.positionTolerance;
+    void traceOutline() {
+        double tol = options_.positionTolerance;
         if (!(tol > 0) || !std::isfinite(tol)) tol = 0.125;
         // Much finer than the triangles: the outline decides alpha, and a chord 1/256 px off
         // the curve changes a pixel's area by under 1/255.
-        loops = outlineLoops(mesh, options.scale, std::max(std::min(tol, 0.125) / 32, 1e-5));
+        loops_ = outlineLoops(mesh_, options_.scale, std::max(std::min(tol, 0.125) / 32, 1e-5));
     }
 
     // Layer rows each visible patch touches, inclusive.
-    const int patchCount = static_cast<int>(pm.patches.size());
-    std::vector<int> rowLo(static_cast<size_t>(patchCount)), rowHi(rowLo.size());
-    for (int p = 0; p < patchCount; ++p) {
-        const PreparedPatch& P = pm.patches[static_cast<size_t>(p)];
-        if (!P.visible) continue;
-        const double lo = std::floor(P.minY) - 1 - originY, hi = std::ceil(P.maxY) + 1 - originY;
-        rowLo[p] = static_cast<int>(std::max(0.0, std::min(lo, height - 1.0)));
-        rowHi[p] = static_cast<int>(std::max(0.0, std::min(hi, height - 1.0)));
+    void findPatchRows() {
+        const int patchCount = static_cast<int>(pm_.patches.size());
+        rowLo_.assign(static_cast<size_t>(patchCount), 0);
+        rowHi_.assign(rowLo_.size(), 0);
+        for (int p = 0; p < patchCount; ++p) {
+            const PreparedPatch& P = pm_.patches[static_cast<size_t>(p)];
+            if (!P.visible) continue;
+            const double lo = std::floor(P.minY) - 1 - originY_,
+                         hi = std::ceil(P.maxY) + 1 - originY_;
+            rowLo_[p] = static_cast<int>(std::max(0.0, std::min(lo, height_ - 1.0)));
+            rowHi_[p] = static_cast<int>(std::max(0.0, std::min(hi, height_ - 1.0)));
+        }
     }
 
-    const int strips = (height + kStripRows - 1) / kStripRows;
-    const int workers = std::max(1, std::min(target.threads, strips));
-    std::vector<StripBuffers> buffers(static_cast<size_t>(workers));
-    std::atomic<size_t> triangleCount{0};
-
-    parallelFor(strips, workers, [&](int strip, int worker) {
-        StripBuffers& B = buffers[static_cast<size_t>(worker)];
-        const int core0 = strip * kStripRows, core1 = std::min(height, core0 + kStripRows);
-        const int ext0 = std::max(0, core0 - kHaloRows), ext1 = std::min(height, core1 + kHaloRows);
+    // Rasterises and composites one strip; returns the triangles of the patches it owns (those
+    // whose first row lies in it, so that each patch counts once).
+    size_t renderStrip(int strip, StripBuffers& B) {
+        const int core0 = strip * kStripRows, core1 = std::min(height_, core0 + kStripRows);
+        const int ext0 = std::max(0, core0 - kHaloRows),
+                  ext1 = std::min(height_, core1 + kHaloRows);
         const int rows = ext1 - ext0;
-        const size_t n = static_cast<size_t>(width) * rows;
+        const size_t n = static_cast<size_t>(width_) * rows;
         B.alpha.assign(n, 0.0f);
         B.kinds.assign(n, kNoSample);
         if (B.samples.size() < n) B.samples.resize(n);
         LayerRows view;  // buffer row 0 is layer row ext0
-        view.originX = originX;
-        view.originY = originY + ext0;
-        view.width = width;
+        view.originX = originX_;
+        view.originY = originY_ + ext0;
+        view.width = width_;
         view.y0 = 0;
         view.y1 = rows;
 
-        if (options.antialias) accumulateCoverage(loops, view, B.accumulator, B.alpha.data());
+        if (options_.antialias) accumulateCoverage(loops_, view, B.accumulator, B.alpha.data());
+        const size_t owned = rasterizePatches(B, view, core0, core1, ext0, ext1);
+        if (options_.antialias) {
+            lendSamples(B, width_, rows);
+        } else {
+            for (size_t k = 0; k < n; ++k) B.alpha[k] = B.kinds[k] == kCentreSample ? 1.0f : 0.0f;
+        }
+        for (int y = core0; y < core1; ++y) compositeRow(B, y, ext0);
+        return owned;
+    }
 
+    // Every visible patch reaching the strip (halo included), tessellated and rasterised at
+    // pixel centres into the strip's samples.
+    size_t rasterizePatches(StripBuffers& B, const LayerRows& view, int core0, int core1, int ext0,
+                            int ext1) {
         size_t owned = 0;
         const int64_t top = int64_t(view.originY) << kSubpixelBits;
-        const int64_t bottom = int64_t(view.originY + rows) << kSubpixelBits;
+        const int64_t bottom = int64_t(view.originY + (ext1 - ext0)) << kSubpixelBits;
+        const int patchCount = static_cast<int>(pm_.patches.size());
         for (int p = 0; p < patchCount; ++p) {
-            if (!pm.patches[static_cast<size_t>(p)].visible) continue;
-            if (rowHi[p] < ext0 || rowLo[p] >= ext1) continue;
-            tessellatePatch(pm, p, B.tess);
+            if (!pm_.patches[static_cast<size_t>(p)].visible) continue;
+            if (rowHi_[p] < ext0 || rowLo_[p] >= ext1) continue;
+            tessellatePatch(pm_, p, B.tess);
             const TessVertex* v = B.tess.vertices.data();
             const int* tri = B.tess.triangles.data();
             const size_t count = B.tess.triangles.size() / 3;
@@ -197,67 +240,78 @@ void renderLayer(const GradientMesh& mesh, int meshIndex, const RenderOptions& o
                     continue;
                 rasterizeTriangle(a, b, c, p, view, B.samples.data(), B.kinds.data());
             }
-            if (rowLo[p] >= core0 && rowLo[p] < core1) owned += count;  // each patch once
+            if (rowLo_[p] >= core0 && rowLo_[p] < core1) owned += count;
         }
-        triangleCount += owned;
+        return owned;
+    }
 
-        if (options.antialias) {
-            lendSamples(B, width, rows);
+    // Shades one of the strip's own rows and composites it (straight alpha "over"; exact copies
+    // where nothing shows through).
+    void compositeRow(const StripBuffers& B, int y, int ext0) {
+        const size_t rowBase = static_cast<size_t>(y - ext0) * width_;
+        const int oy = originY_ + y;
+        float* outRow = image_.at(originX_, oy);
+        PixelSample* sampleRow =
+            target_.samples ? &(*target_.samples)[static_cast<size_t>(oy) * image_.width + originX_]
+                            : nullptr;
+        for (int x = 0; x < width_; ++x) {
+            const size_t k = rowBase + x;
+            const uint8_t kind = B.kinds[k];
+            if (kind == kNoSample) continue;
+            float a = B.alpha[k];
+            // A covered centre in a pixel the outline does not touch at all (chords stay within
+            // 1/8 px of the outline, so this is no rounding matter) lies where a folded mesh
+            // overlaps itself with opposite orientations and the windings cancel; the patches
+            // still paint it.
+            if (a == 0.0f && kind == kCentreSample) a = 1.0f;
+            if (!(a > 0)) continue;
+            const LayerSample& S = B.samples[k];
+            paintPixel(outRow + 4 * static_cast<size_t>(x), S, a);
+            if (sampleRow) recordSample(sampleRow[x], S, kind == kCentreSample, a);
+        }
+    }
+
+    void paintPixel(float* out, const LayerSample& S, float a) const {
+        const PreparedPatch& P = pm_.patches[static_cast<size_t>(S.patch)];
+        float col[3];
+        P.colour.eval(S.s, S.t, col);
+        const float d = out[3];
+        if (a >= 1.0f || d <= 0.0f) {
+            out[0] = col[0], out[1] = col[1], out[2] = col[2], out[3] = a;
         } else {
-            for (size_t k = 0; k < n; ++k) B.alpha[k] = B.kinds[k] == kCentreSample ? 1.0f : 0.0f;
+            const float under = d * (1 - a), total = a + under;
+            for (int c = 0; c < 3; ++c) out[c] = (col[c] * a + out[c] * under) / total;
+            out[3] = total;
         }
+    }
 
-        // Shade the strip's own rows and composite (straight alpha "over"; exact copies where
-        // nothing shows through).
-        for (int y = core0; y < core1; ++y) {
-            const size_t rowBase = static_cast<size_t>(y - ext0) * width;
-            const int oy = originY + y;
-            float* outRow = image.at(originX, oy);
-            PixelSample* sampleRow =
-                target.samples ? &(*target.samples)[static_cast<size_t>(oy) * imageW + originX]
-                               : nullptr;
-            for (int x = 0; x < width; ++x) {
-                const size_t k = rowBase + x;
-                const uint8_t kind = B.kinds[k];
-                if (kind == kNoSample) continue;
-                float a = B.alpha[k];
-                // A covered centre in a pixel the outline does not touch at all (chords stay
-                // within 1/8 px of the outline, so this is no rounding matter) lies where a
-                // folded mesh overlaps itself with opposite orientations and the windings
-                // cancel; the patches still paint it.
-                if (a == 0.0f && kind == kCentreSample) a = 1.0f;
-                if (!(a > 0)) continue;
-                const LayerSample& S = B.samples[k];
-                const PreparedPatch& P = pm.patches[static_cast<size_t>(S.patch)];
-                float col[3];
-                P.colour.eval(S.s, S.t, col);
-                float* out = outRow + 4 * static_cast<size_t>(x);
-                const float d = out[3];
-                if (a >= 1.0f || d <= 0.0f) {
-                    out[0] = col[0], out[1] = col[1], out[2] = col[2], out[3] = a;
-                } else {
-                    const float under = d * (1 - a), total = a + under;
-                    for (int c = 0; c < 3; ++c) out[c] = (col[c] * a + out[c] * under) / total;
-                    out[3] = total;
-                }
-                if (sampleRow) {
-                    PixelSample& ps = sampleRow[x];
-                    const bool centre = kind == kCentreSample;
-                    // The topmost mesh covering the centre names the pixel; a mesh that only
-                    // reaches it with its anti-aliased outline does so when nothing below
-                    // covers the centre or when it hides what is below.
-                    if (centre || !ps.centre || a >= 1.0f) {
-                        ps.mesh = meshIndex;
-                        ps.patch = S.patch;
-                        ps.s = S.s;
-                        ps.t = S.t;
-                        ps.centre = centre;
-                    }
-                }
-            }
+    // The topmost mesh covering the centre names the pixel; a mesh that only reaches it with
+    // its anti-aliased outline does so when nothing below covers the centre or when it hides
+    // what is below.
+    void recordSample(PixelSample& ps, const LayerSample& S, bool centre, float a) const {
+        if (centre || !ps.centre || a >= 1.0f) {
+            ps.mesh = meshIndex_;
+            ps.patch = S.patch;
+            ps.s = S.s;
+            ps.t = S.t;
+            ps.centre = centre;
         }
-    });
-    target.triangles += triangleCount.load();
+    }
+
+    const GradientMesh& mesh_;
+    const int meshIndex_;
+    const RenderOptions& options_;
+    Target& target_;
+    RgbaImage& image_;
+    PreparedMesh pm_;
+    int originX_ = 0, originY_ = 0, width_ = 0, height_ = 0;
+    std::vector<std::vector<Vec2>> loops_;
+    std::vector<int> rowLo_, rowHi_;
+};
+
+void renderLayer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
+                 Target& target) {
+    LayerRenderer(mesh, meshIndex, options, target).run();
 }
 
 int outputSide(int canvas, double scale) {

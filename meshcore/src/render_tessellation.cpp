@@ -239,126 +239,177 @@ Vec2 edgePoint(Vec2 p0, Vec2 p1, Vec2 d0, Vec2 d1, double tau) {
 
 }  // namespace
 
-void tessellatePatch(const PreparedMesh& pm, int patch, Tessellation& out) {
+namespace {
+
+// Edges of a patch: 0 top (t=0), 1 bottom (t=1), both along s; 2 left (s=0), 3 right (s=1),
+// along t.
+using PatchEdges = EdgeParams[4];
+
+// Each edge's parameters: the patch's own subdivisions merged with its neighbour's across that
+// edge (none across a slit or the mesh border, or when the neighbour is not drawn).
+void mergeEdgeParams(const PreparedMesh& pm, int i, int j, PatchEdges& edges) {
     const int C = pm.columns, R = pm.rows;
-    const int i = patch % C, j = patch / C;
-    const PreparedPatch& P = pm.patches[static_cast<size_t>(patch)];
-    const int ns = P.ns, nt = P.nt;
+    const PreparedPatch& P = pm.patches[static_cast<size_t>(j) * C + i];
     auto countOf = [&](int ii, int jj, bool alongS) {
         const PreparedPatch& q = pm.patches[static_cast<size_t>(jj) * C + ii];
         return q.visible ? (alongS ? q.ns : q.nt) : 0;
     };
     const bool topShared = j > 0 && !pm.horizontalCut[static_cast<size_t>(j) * C + i];
     const bool bottomShared = j < R - 1 && !pm.horizontalCut[static_cast<size_t>(j + 1) * C + i];
+    mergeParams(P.ns, topShared ? countOf(i, j - 1, true) : 0, edges[0]);
+    mergeParams(P.ns, bottomShared ? countOf(i, j + 1, true) : 0, edges[1]);
+    mergeParams(P.nt, i > 0 ? countOf(i - 1, j, false) : 0, edges[2]);
+    mergeParams(P.nt, i < C - 1 ? countOf(i + 1, j, false) : 0, edges[3]);
+}
 
-    // Edges: 0 top (t=0), 1 bottom (t=1), both along s; 2 left (s=0), 3 right (s=1), along t.
-    static thread_local EdgeParams edges[4];
-    mergeParams(ns, topShared ? countOf(i, j - 1, true) : 0, edges[0]);
-    mergeParams(ns, bottomShared ? countOf(i, j + 1, true) : 0, edges[1]);
-    mergeParams(nt, i > 0 ? countOf(i - 1, j, false) : 0, edges[2]);
-    mergeParams(nt, i < C - 1 ? countOf(i + 1, j, false) : 0, edges[3]);
+// Tessellates one prepared patch: an (ns+1) x (nt+1) grid of vertices, the boundary ones on
+// the edge curves (shared bit for bit with the neighbours), cells split in two triangles or,
+// where a finer neighbour adds edge vertices, fanned around their centre.
+class PatchTessellator {
+public:
+    PatchTessellator(const PreparedPatch& patch, PatchEdges& edges, Tessellation& out)
+        : P_(patch), ns_(patch.ns), nt_(patch.nt), edges_(edges), out_(out) {}
 
-    const auto& h = P.hermite.corner;
-    out.vertices.assign(static_cast<size_t>(ns + 1) * (nt + 1), TessVertex{});
-    out.triangles.clear();
-    auto grid = [&](int a, int b) { return b * (ns + 1) + a; };
+    void run() {
+        out_.vertices.assign(static_cast<size_t>(ns_ + 1) * (nt_ + 1), TessVertex{});
+        out_.triangles.clear();
+        interiorVertices();
+        for (int e = 0; e < 4; ++e) edgeVertices(e);
+        for (int b = 0; b < nt_; ++b)
+            for (int a = 0; a < ns_; ++a) cell(a, b);
+    }
 
-    for (int b = 1; b < nt; ++b)
-        for (int a = 1; a < ns; ++a) {
-            const double s = static_cast<double>(a) / ns, t = static_cast<double>(b) / nt;
-            out.vertices[grid(a, b)] = {snap(P.x.eval(s, t)), snap(P.y.eval(s, t)), s, t};
-        }
-    for (int e = 0; e < 4; ++e) {
-        EdgeParams& ep = edges[e];
+private:
+    int grid(int a, int b) const { return b * (ns_ + 1) + a; }
+
+    TessVertex surfacePoint(double s, double t) const {
+        return {snap(P_.x.eval(s, t)), snap(P_.y.eval(s, t)), s, t};
+    }
+
+    void interiorVertices() {
+        for (int b = 1; b < nt_; ++b)
+            for (int a = 1; a < ns_; ++a) {
+                const double s = static_cast<double>(a) / ns_, t = static_cast<double>(b) / nt_;
+                out_.vertices[grid(a, b)] = surfacePoint(s, t);
+            }
+    }
+
+    // The vertices of edge e at its merged parameters, evaluated from the edge data alone: the
+    // patch's own grid points take their grid slots, the neighbour's extra ones are appended.
+    void edgeVertices(int e) {
+        const auto& h = P_.hermite.corner;
+        EdgeParams& ep = edges_[e];
         const bool alongS = e < 2;
         const int side = e & 1;  // 0: t=0 / s=0, 1: t=1 / s=1
         const HermiteCorner& c0 = alongS ? h[0][side] : h[side][0];
         const HermiteCorner& c1 = alongS ? h[1][side] : h[side][1];
         const Vec2 d0 = alongS ? c0.posS : c0.posT, d1 = alongS ? c1.posS : c1.posT;
         ep.vertex.assign(ep.params.size(), -1);
-        const int n = alongS ? ns : nt;
+        const int n = alongS ? ns_ : nt_;
         for (int a = 0; a <= n; ++a)
             ep.vertex[static_cast<size_t>(ep.gridAt[a])] =
-                alongS ? grid(a, side ? nt : 0) : grid(side ? ns : 0, a);
+                alongS ? grid(a, side ? nt_ : 0) : grid(side ? ns_ : 0, a);
         for (size_t k = 0; k < ep.params.size(); ++k) {
             const double tau = ep.params[k];
             const Vec2 q = edgePoint(c0.pos, c1.pos, d0, d1, tau);
             TessVertex v{snap(q.x), snap(q.y), alongS ? tau : double(side),
                          alongS ? double(side) : tau};
             if (ep.vertex[k] < 0) {
-                ep.vertex[k] = static_cast<int>(out.vertices.size());
-                out.vertices.push_back(v);
+                ep.vertex[k] = static_cast<int>(out_.vertices.size());
+                out_.vertices.push_back(v);
             } else {
-                out.vertices[static_cast<size_t>(ep.vertex[k])] = v;
+                out_.vertices[static_cast<size_t>(ep.vertex[k])] = v;
             }
         }
     }
 
-    static thread_local std::vector<int> ring;
-    for (int b = 0; b < nt; ++b) {
-        for (int a = 0; a < ns; ++a) {
-            // Extra vertices from a finer neighbour on this cell's boundary edges.
-            auto extras = [&](int e, int cell) {
-                return edges[e].gridAt[cell + 1] - edges[e].gridAt[cell] - 1;
-            };
-            const bool top = b == 0 && extras(0, a) > 0;
-            const bool bottom = b == nt - 1 && extras(1, a) > 0;
-            const bool left = a == 0 && extras(2, b) > 0;
-            const bool right = a == ns - 1 && extras(3, b) > 0;
-            const int v00 = grid(a, b), v10 = grid(a + 1, b), v01 = grid(a, b + 1),
-                      v11 = grid(a + 1, b + 1);
-            if (!top && !bottom && !left && !right) {
-                // Split along the shorter diagonal: better-shaped triangles follow the surface.
-                const TessVertex &p00 = out.vertices[v00], &p10 = out.vertices[v10],
-                                 &p01 = out.vertices[v01], &p11 = out.vertices[v11];
-                auto dist2 = [](const TessVertex& p, const TessVertex& q) {
-                    const double dx = double(p.X - q.X), dy = double(p.Y - q.Y);
-                    return dx * dx + dy * dy;
-                };
-                const double d1 = dist2(p11, p00), d2 = dist2(p10, p01);
-                const int tri[6] = {v00, v10, v11, v00, v11, v01};
-                const int alt[6] = {v00, v10, v01, v10, v11, v01};
-                out.triangles.insert(out.triangles.end(), d1 <= d2 ? tri : alt,
-                                     (d1 <= d2 ? tri : alt) + 6);
-                continue;
-            }
-            // A cell with extra edge vertices becomes a fan around its centre (the cell is
-            // convex in parameter space, so the fan is a valid triangulation there).
-            ring.clear();
-            auto walk = [&](int e, int cell, bool forward) {
-                const EdgeParams& ep = edges[e];
-                const int lo = ep.gridAt[cell], hi = ep.gridAt[cell + 1];
-                if (forward)
-                    for (int k = lo; k < hi; ++k) ring.push_back(ep.vertex[k]);
-                else
-                    for (int k = hi; k > lo; --k) ring.push_back(ep.vertex[k]);
-            };
-            if (top)
-                walk(0, a, true);
-            else
-                ring.push_back(v00);
-            if (right)
-                walk(3, b, true);
-            else
-                ring.push_back(v10);
-            if (bottom)
-                walk(1, a, false);
-            else
-                ring.push_back(v11);
-            if (left)
-                walk(2, b, false);
-            else
-                ring.push_back(v01);
-            const double s = (a + 0.5) / ns, t = (b + 0.5) / nt;
-            const int centre = static_cast<int>(out.vertices.size());
-            out.vertices.push_back({snap(P.x.eval(s, t)), snap(P.y.eval(s, t)), s, t});
-            for (size_t k = 0; k < ring.size(); ++k) {
-                out.triangles.push_back(centre);
-                out.triangles.push_back(ring[k]);
-                out.triangles.push_back(ring[(k + 1) % ring.size()]);
-            }
+    // Extra vertices from a finer neighbour on edge e within the cell `cell` along it.
+    int extras(int e, int cell) const {
+        return edges_[e].gridAt[cell + 1] - edges_[e].gridAt[cell] - 1;
+    }
+
+    void cell(int a, int b) {
+        const bool top = b == 0 && extras(0, a) > 0;
+        const bool bottom = b == nt_ - 1 && extras(1, a) > 0;
+        const bool left = a == 0 && extras(2, b) > 0;
+        const bool right = a == ns_ - 1 && extras(3, b) > 0;
+        if (!top && !bottom && !left && !right)
+            splitCell(a, b);
+        else
+            fanCell(a, b, top, bottom, left, right);
+    }
+
+    // Split along the shorter diagonal: better-shaped triangles follow the surface.
+    void splitCell(int a, int b) {
+        const int v00 = grid(a, b), v10 = grid(a + 1, b), v01 = grid(a, b + 1),
+                  v11 = grid(a + 1, b + 1);
+        const TessVertex &p00 = out_.vertices[v00], &p10 = out_.vertices[v10],
+                         &p01 = out_.vertices[v01], &p11 = out_.vertices[v11];
+        auto dist2 = [](const TessVertex& p, const TessVertex& q) {
+            const double dx = double(p.X - q.X), dy = double(p.Y - q.Y);
+            return dx * dx + dy * dy;
+        };
+        const double d1 = dist2(p11, p00), d2 = dist2(p10, p01);
+        const int tri[6] = {v00, v10, v11, v00, v11, v01};
+        const int alt[6] = {v00, v10, v01, v10, v11, v01};
+        out_.triangles.insert(out_.triangles.end(), d1 <= d2 ? tri : alt,
+                              (d1 <= d2 ? tri : alt) + 6);
+    }
+
+    // Appends the vertices of edge e within `cell` (without its last one) to the ring.
+    void walk(std::vector<int>& ring, int e, int cell, bool forward) const {
+        const EdgeParams& ep = edges_[e];
+        const int lo = ep.gridAt[cell], hi = ep.gridAt[cell + 1];
+        if (forward)
+            for (int k = lo; k < hi; ++k) ring.push_back(ep.vertex[k]);
+        else
+            for (int k = hi; k > lo; --k) ring.push_back(ep.vertex[k]);
+    }
+
+    // A cell with extra edge vertices becomes a fan around its centre (the cell is convex in
+    // parameter space, so the fan is a valid triangulation there).
+    void fanCell(int a, int b, bool top, bool bottom, bool left, bool right) {
+        static thread_local std::vector<int> ring;
+        ring.clear();
+        if (top)
+            walk(ring, 0, a, true);
+        else
+            ring.push_back(grid(a, b));
+        if (right)
+            walk(ring, 3, b, true);
+        else
+            ring.push_back(grid(a + 1, b));
+        if (bottom)
+            walk(ring, 1, a, false);
+        else
+            ring.push_back(grid(a + 1, b + 1));
+        if (left)
+            walk(ring, 2, b, false);
+        else
+            ring.push_back(grid(a, b + 1));
+        const double s = (a + 0.5) / ns_, t = (b + 0.5) / nt_;
+        const int centre = static_cast<int>(out_.vertices.size());
+        out_.vertices.push_back(surfacePoint(s, t));
+        for (size_t k = 0; k < ring.size(); ++k) {
+            out_.triangles.push_back(centre);
+            out_.triangles.push_back(ring[k]);
+            out_.triangles.push_back(ring[(k + 1) % ring.size()]);
         }
     }
+
+    const PreparedPatch& P_;
+    const int ns_, nt_;
+    PatchEdges& edges_;
+    Tessellation& out_;
+};
+
+}  // namespace
+
+void tessellatePatch(const PreparedMesh& pm, int patch, Tessellation& out) {
+    const int i = patch % pm.columns, j = patch / pm.columns;
+    static thread_local EdgeParams edges[4];
+    mergeEdgeParams(pm, i, j, edges);
+    PatchTessellator(pm.patches[static_cast<size_t>(patch)], edges, out).run();
 }
 
 }  // namespace render_detail

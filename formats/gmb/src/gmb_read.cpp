@@ -157,6 +157,17 @@ private:
     void readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& doc);
     void readStreamMesh(CompactStreamReader& in, ByteReader& r, const int (&shared)[kFieldCount],
                         Document& doc);
+    // The parts of one mesh of a CMS2/CMS3 stream, in stream order.
+    MeshHeader readStreamHeader(CompactStreamReader& in, ByteReader& r,
+                                const int (&shared)[kFieldCount]);
+    void readStreamKnots(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
+                         GradientMesh& m);
+    void readStreamNodes(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
+                         GradientMesh& m);
+    void readStreamSlit(CompactStreamReader& in, ByteReader& r, const MeshHeader& h, size_t k,
+                        Slit& s);
+    void readStreamTangent(CompactStreamReader& in, ByteReader& r, const MeshHeader& h, size_t k,
+                           CornerTangent& t);
     // Adds `bytes` to what the document decodes to, refusing it beyond limits.maxFileBytes.
     void charge(ByteReader& r, uint64_t bytes);
     void addMesh(GradientMesh m, const MeshHeader& h, Document& doc);
@@ -739,8 +750,8 @@ void Decoder::readStreamMeshes(const Section& s, uint64_t meshesLeft, Document& 
     finish(p, s);
 }
 
-void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
-                             const int (&shared)[kFieldCount], Document& doc) {
+MeshHeader Decoder::readStreamHeader(CompactStreamReader& in, ByteReader& r,
+                                     const int (&shared)[kFieldCount]) {
     MeshHeader h;
     h.encoding = Encoding::Coded;
     h.record = true;
@@ -761,17 +772,11 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
     h.exponent[kKnot] = static_cast<int>(knot);
     const std::string exponents = codedExponentProblem(h.exponent);
     if (!exponents.empty()) r.fail(exponents);
-    // What the mesh decodes to counts as the binary64 values it becomes, charged before any of
-    // it is allocated: the node planes, and the fixed parts of slits and tangent breaks (their
-    // below copies once their columns are known).
-    const uint64_t F = static_cast<uint64_t>(h.components());
-    const uint64_t endValues = h.byRule ? 2 : 5;
-    uint64_t values = satMul(F, h.nodes());
-    values = satAdd(values, satMul(h.slits, 3 + 2 * endValues));
-    values = satAdd(values, satMul(h.tangents, 3 + endValues));
-    charge(r, satMul(kDecodedBytesPerValue, values));
+    return h;
+}
 
-    GradientMesh m;
+void Decoder::readStreamKnots(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
+                              GradientMesh& m) {
     // Every value takes at least one decision: a stream cannot be shorter than its values allow
     // (docs/formats.md, "Reading limits"), checked before each allocation.
     r.need((h.columns + h.rows + 2) / kValuesPerStreamByte, "the knots");
@@ -792,7 +797,11 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
     }
     grid_.spanU = localSpans(grid_.knotU);
     grid_.spanV = localSpans(grid_.knotV);
+}
 
+void Decoder::readStreamNodes(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
+                              GradientMesh& m) {
+    const uint64_t F = static_cast<uint64_t>(h.components());
     const uint64_t n = h.nodes();
     const size_t C1 = static_cast<size_t>(h.columns + 1);
     r.need(satMul(F, n) / kValuesPerStreamByte, "the range-coded nodes");
@@ -808,51 +817,76 @@ void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
             nodeComponent(m.nodes[k], static_cast<int>(c)) =
                 component(r, h, static_cast<int>(c), q[k], k % C1, k / C1);
     }
+}
 
-    r.need(satMul(h.slits, 3 + 2 * endValues) / kValuesPerStreamByte, "the slits");
-    m.slits.resize(static_cast<size_t>(h.slits));
-    for (size_t k = 0; k < m.slits.size(); ++k) {
-        Slit& s = m.slits[k];
-        const uint64_t row = in.getUnsigned(StreamField::SlitIndex);
-        const uint64_t i0 = in.getUnsigned(StreamField::SlitIndex);
-        const uint64_t i1 = in.getUnsigned(StreamField::SlitIndex);
-        placeSlit(r, h, k, row, i0, i1, s);
-        readSlitEnds(h, s, [&](Field f, size_t column) {
-            return derivativeU(r, h, f, in.getSigned(StreamField::SlitEnd), column);
-        });
-        const uint64_t below = i1 - i0 - 1;
-        charge(r, satMul(kDecodedBytesPerValue, satMul(below, F)));
-        r.need(satMul(below, F) / kValuesPerStreamByte, "the split nodes of slit " + std::to_string(k));
-        s.below.resize(static_cast<size_t>(below));
-        for (size_t b = 0; b < s.below.size(); ++b) {
-            const size_t above = static_cast<size_t>(row * (h.columns + 1) + i0 + 1 + b);
-            for (size_t c = 0; c < F; ++c) {
-                // Residuals are arbitrary 64-bit numbers: add in unsigned (wrapping) arithmetic
-                // and let the range check reject the result.
-                const int64_t q = static_cast<int64_t>(
-                    static_cast<uint64_t>(grid_.planes[c * static_cast<size_t>(n) + above]) +
-                    static_cast<uint64_t>(in.getSigned(StreamField::SlitBelow)));
-                nodeComponent(s.below[b], static_cast<int>(c)) =
-                    component(r, h, static_cast<int>(c), q, above % C1, above / C1);
-            }
+// Slit k: its place, its ends' u-derivatives, and its lower nodes as residuals from the nodes
+// above them.
+void Decoder::readStreamSlit(CompactStreamReader& in, ByteReader& r, const MeshHeader& h, size_t k,
+                             Slit& s) {
+    const uint64_t F = static_cast<uint64_t>(h.components());
+    const uint64_t n = h.nodes();
+    const size_t C1 = static_cast<size_t>(h.columns + 1);
+    const uint64_t row = in.getUnsigned(StreamField::SlitIndex);
+    const uint64_t i0 = in.getUnsigned(StreamField::SlitIndex);
+    const uint64_t i1 = in.getUnsigned(StreamField::SlitIndex);
+    placeSlit(r, h, k, row, i0, i1, s);
+    readSlitEnds(h, s, [&](Field f, size_t column) {
+        return derivativeU(r, h, f, in.getSigned(StreamField::SlitEnd), column);
+    });
+    const uint64_t below = i1 - i0 - 1;
+    charge(r, satMul(kDecodedBytesPerValue, satMul(below, F)));
+    r.need(satMul(below, F) / kValuesPerStreamByte, "the split nodes of slit " + std::to_string(k));
+    s.below.resize(static_cast<size_t>(below));
+    for (size_t b = 0; b < s.below.size(); ++b) {
+        const size_t above = static_cast<size_t>(row * (h.columns + 1) + i0 + 1 + b);
+        for (size_t c = 0; c < F; ++c) {
+            // Residuals are arbitrary 64-bit numbers: add in unsigned (wrapping) arithmetic
+            // and let the range check reject the result.
+            const int64_t q = static_cast<int64_t>(
+                static_cast<uint64_t>(grid_.planes[c * static_cast<size_t>(n) + above]) +
+                static_cast<uint64_t>(in.getSigned(StreamField::SlitBelow)));
+            nodeComponent(s.below[b], static_cast<int>(c)) =
+                component(r, h, static_cast<int>(c), q, above % C1, above / C1);
         }
     }
+}
 
+void Decoder::readStreamTangent(CompactStreamReader& in, ByteReader& r, const MeshHeader& h,
+                                size_t k, CornerTangent& t) {
+    const uint64_t i = in.getUnsigned(StreamField::TangentIndex);
+    const uint64_t j = in.getUnsigned(StreamField::TangentIndex);
+    const uint64_t corner = in.getUnsigned(StreamField::TangentIndex);
+    if (corner > 3) r.fail("tangent break " + std::to_string(k) + " has a bad corner code");
+    placeBreak(r, h, k, i, j, corner & 1, corner >> 1, t);
+    const size_t column = static_cast<size_t>(i) + static_cast<size_t>(t.a);
+    for (double* x : {&t.posU.x, &t.posU.y})
+        *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::TangentValue), column);
+    for (int c = 0; c < 3 && !h.byRule; ++c)
+        t.colU[c] = derivativeU(r, h, kColU, in.getSigned(StreamField::TangentValue), column);
+}
+
+void Decoder::readStreamMesh(CompactStreamReader& in, ByteReader& r,
+                             const int (&shared)[kFieldCount], Document& doc) {
+    const MeshHeader h = readStreamHeader(in, r, shared);
+    // What the mesh decodes to counts as the binary64 values it becomes, charged before any of
+    // it is allocated: the node planes, and the fixed parts of slits and tangent breaks (their
+    // below copies once their columns are known).
+    const uint64_t F = static_cast<uint64_t>(h.components());
+    const uint64_t endValues = h.byRule ? 2 : 5;
+    uint64_t values = satMul(F, h.nodes());
+    values = satAdd(values, satMul(h.slits, 3 + 2 * endValues));
+    values = satAdd(values, satMul(h.tangents, 3 + endValues));
+    charge(r, satMul(kDecodedBytesPerValue, values));
+
+    GradientMesh m;
+    readStreamKnots(in, r, h, m);
+    readStreamNodes(in, r, h, m);
+    r.need(satMul(h.slits, 3 + 2 * endValues) / kValuesPerStreamByte, "the slits");
+    m.slits.resize(static_cast<size_t>(h.slits));
+    for (size_t k = 0; k < m.slits.size(); ++k) readStreamSlit(in, r, h, k, m.slits[k]);
     r.need(satMul(h.tangents, 3 + endValues) / kValuesPerStreamByte, "the tangent breaks");
     m.tangents.resize(static_cast<size_t>(h.tangents));
-    for (size_t k = 0; k < m.tangents.size(); ++k) {
-        CornerTangent& t = m.tangents[k];
-        const uint64_t i = in.getUnsigned(StreamField::TangentIndex);
-        const uint64_t j = in.getUnsigned(StreamField::TangentIndex);
-        const uint64_t corner = in.getUnsigned(StreamField::TangentIndex);
-        if (corner > 3) r.fail("tangent break " + std::to_string(k) + " has a bad corner code");
-        placeBreak(r, h, k, i, j, corner & 1, corner >> 1, t);
-        const size_t column = static_cast<size_t>(i) + static_cast<size_t>(t.a);
-        for (double* x : {&t.posU.x, &t.posU.y})
-            *x = derivativeU(r, h, kPosU, in.getSigned(StreamField::TangentValue), column);
-        for (int c = 0; c < 3 && !h.byRule; ++c)
-            t.colU[c] = derivativeU(r, h, kColU, in.getSigned(StreamField::TangentValue), column);
-    }
+    for (size_t k = 0; k < m.tangents.size(); ++k) readStreamTangent(in, r, h, k, m.tangents[k]);
     addMesh(std::move(m), h, doc);
 }
 

@@ -242,26 +242,9 @@ private:
     std::vector<double> intervalU_, intervalV_;
 };
 
-// Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the
-// quantised grid (enormous coordinates, degenerate knot spacing); the caller then writes the
-// mesh as float64, always within bounds.
-bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift, MeshPayloads& p) {
-    int e[kFieldCount];
-    chooseExponents(m, shift, e);
-    for (int x : e)
-        if (x < -kMaxExponent || x > kMaxExponent) return false;
-    if (!codedExponentProblem(e).empty()) return false;
-    const int F = byRule ? kNodeComponentsByRule : kNodeComponents;
-    const int C = m.columns(), R = m.rows();
-
-    CodedMesh out;
-    out.byRule = byRule;
-    out.bicubic = m.colorModel == ColorModel::Bicubic;
-    CodedGrid& g = out.grid;
-    g.columns = C;
-    g.rows = R;
-    g.components = F;
-    std::copy(std::begin(e), std::end(e), g.exponent);
+// The knots of both directions on the knot grid (exponent e[kKnot]); false when one does not
+// fit or two round to the same value.
+bool quantizeKnots(const GradientMesh& m, const int (&e)[kFieldCount], CodedGrid& g) {
     for (const std::vector<double>* k : {&m.u, &m.v}) {
         std::vector<int64_t>& knots = k == &m.u ? g.knotU : g.knotV;
         for (size_t i = 0; i < k->size(); ++i) {
@@ -271,10 +254,12 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
             knots.push_back(q);
         }
     }
-    g.spanU = localSpans(g.knotU);
-    g.spanV = localSpans(g.knotV);
-    const CodedQuantizer quant(m, e, g, shift);
+    return true;
+}
 
+// Every node's components into the grid's planes (plane c holds component c of all nodes).
+bool quantizeNodes(const GradientMesh& m, const CodedQuantizer& quant, CodedGrid& g) {
+    const int F = g.components, C = g.columns, R = g.rows;
     const size_t n = m.nodes.size();
     g.planes.resize(static_cast<size_t>(F) * n);
     for (int j = 0; j <= R; ++j)
@@ -283,50 +268,90 @@ bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shi
             for (int c = 0; c < F; ++c)
                 if (!quant.component(m.nodes[k], c, i, j, g.planes[c * n + k])) return false;
         }
+    return true;
+}
 
+// A u-derivative's position (and, unless colours follow the rule, colour) components at
+// column `column`, appended to `out`.
+bool quantizeDerivativeU(const CodedQuantizer& quant, Vec2 posU, const Vec3& colU, int column,
+                         bool byRule, std::vector<int64_t>& out) {
+    int64_t q;
+    for (double x : {posU.x, posU.y}) {
+        if (!quant.derivativeU(x, kPosU, column, q)) return false;
+        out.push_back(q);
+    }
+    for (int c = 0; c < 3 && !byRule; ++c) {
+        if (!quant.derivativeU(colU[c], kColU, column, q)) return false;
+        out.push_back(q);
+    }
+    return true;
+}
+
+// A slit: its ends' u-derivatives, and its lower nodes as differences from the nodes above.
+bool quantizeSlit(const Slit& s, const CodedQuantizer& quant, const CodedGrid& g, bool byRule,
+                  CodedMesh::SlitInts& slit) {
+    const int F = g.components, C = g.columns;
+    const size_t n = g.planes.size() / static_cast<size_t>(F);
+    slit.row = static_cast<uint64_t>(s.row);
+    slit.i0 = static_cast<uint64_t>(s.i0);
+    slit.i1 = static_cast<uint64_t>(s.i1);
+    for (const SlitEnd* end : {&s.left, &s.right}) {
+        const int column = end == &s.left ? s.i0 : s.i1;
+        if (!quantizeDerivativeU(quant, end->posU, end->colU, column, byRule, slit.ends))
+            return false;
+    }
+    for (size_t b = 0; b < s.below.size(); ++b) {
+        const int column = s.i0 + 1 + static_cast<int>(b);
+        const size_t above = static_cast<size_t>(s.row) * (C + 1) + column;
+        for (int c = 0; c < F; ++c) {
+            int64_t q;
+            if (!quant.component(s.below[b], c, column, s.row, q)) return false;
+            slit.below.push_back(q - g.planes[c * n + above]);
+        }
+    }
+    return true;
+}
+
+bool quantizeTangent(const CornerTangent& t, const CodedQuantizer& quant, bool byRule,
+                     CodedMesh::TangentInts& tangent) {
+    tangent.i = static_cast<uint64_t>(t.i);
+    tangent.j = static_cast<uint64_t>(t.j);
+    tangent.corner = static_cast<uint64_t>(t.a | (t.b << 1));
+    return quantizeDerivativeU(quant, t.posU, t.colU, t.i + t.a, byRule, tangent.values);
+}
+
+// Encoding 2, quantised for a CMS2 or CMS3 section. False when some value does not fit the
+// quantised grid (enormous coordinates, degenerate knot spacing); the caller then writes the
+// mesh as float64, always within bounds.
+bool encodeCoded(const GradientMesh& m, bool byRule, const GmbCompactShifts& shift,
+                 MeshPayloads& p) {
+    int e[kFieldCount];
+    chooseExponents(m, shift, e);
+    for (int x : e)
+        if (x < -kMaxExponent || x > kMaxExponent) return false;
+    if (!codedExponentProblem(e).empty()) return false;
+
+    CodedMesh out;
+    out.byRule = byRule;
+    out.bicubic = m.colorModel == ColorModel::Bicubic;
+    CodedGrid& g = out.grid;
+    g.columns = m.columns();
+    g.rows = m.rows();
+    g.components = byRule ? kNodeComponentsByRule : kNodeComponents;
+    std::copy(std::begin(e), std::end(e), g.exponent);
+    if (!quantizeKnots(m, e, g)) return false;
+    g.spanU = localSpans(g.knotU);
+    g.spanV = localSpans(g.knotV);
+    const CodedQuantizer quant(m, e, g, shift);
+    if (!quantizeNodes(m, quant, g)) return false;
     for (const Slit& s : m.slits) {
         CodedMesh::SlitInts slit;
-        slit.row = static_cast<uint64_t>(s.row);
-        slit.i0 = static_cast<uint64_t>(s.i0);
-        slit.i1 = static_cast<uint64_t>(s.i1);
-        for (const SlitEnd* end : {&s.left, &s.right}) {
-            const int column = end == &s.left ? s.i0 : s.i1;
-            int64_t q;
-            for (double x : {end->posU.x, end->posU.y}) {
-                if (!quant.derivativeU(x, kPosU, column, q)) return false;
-                slit.ends.push_back(q);
-            }
-            for (int c = 0; c < 3 && !byRule; ++c) {
-                if (!quant.derivativeU(end->colU[c], kColU, column, q)) return false;
-                slit.ends.push_back(q);
-            }
-        }
-        for (size_t b = 0; b < s.below.size(); ++b) {
-            const int column = s.i0 + 1 + static_cast<int>(b);
-            const size_t above = static_cast<size_t>(s.row) * (C + 1) + column;
-            for (int c = 0; c < F; ++c) {
-                int64_t q;
-                if (!quant.component(s.below[b], c, column, s.row, q)) return false;
-                slit.below.push_back(q - g.planes[c * n + above]);
-            }
-        }
+        if (!quantizeSlit(s, quant, g, byRule, slit)) return false;
         out.slits.push_back(std::move(slit));
     }
-
     for (const CornerTangent& t : m.tangents) {
         CodedMesh::TangentInts tangent;
-        tangent.i = static_cast<uint64_t>(t.i);
-        tangent.j = static_cast<uint64_t>(t.j);
-        tangent.corner = static_cast<uint64_t>(t.a | (t.b << 1));
-        int64_t q;
-        for (double x : {t.posU.x, t.posU.y}) {
-            if (!quant.derivativeU(x, kPosU, t.i + t.a, q)) return false;
-            tangent.values.push_back(q);
-        }
-        for (int c = 0; c < 3 && !byRule; ++c) {
-            if (!quant.derivativeU(t.colU[c], kColU, t.i + t.a, q)) return false;
-            tangent.values.push_back(q);
-        }
+        if (!quantizeTangent(t, quant, byRule, tangent)) return false;
         out.tangents.push_back(std::move(tangent));
     }
     p.coded = true;

@@ -224,11 +224,12 @@ public:
     bool canWrite() const override { return true; }
     std::string encode(const Document& doc, const std::string& path,
                        const WriteOptions& options) const override {
-        RenderOptions ro;
-        ro.scale = options.rasterScale;
-        RgbaImage img = renderDocument(doc, ro).image;
+        RenderOptions renderOptions;
+        renderOptions.scale = options.rasterScale;
+        RgbaImage img = renderDocument(doc, renderOptions).image;
         compositeOver(img, options.background);
-        if (options.meshLines[3] > 0) drawMeshLines(img, doc, ro.scale, options.meshLines);
+        if (options.meshLines[3] > 0)
+            drawMeshLines(img, doc, renderOptions.scale, options.meshLines);
         return encodeImage(img, path);
     }
 };

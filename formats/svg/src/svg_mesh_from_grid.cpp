@@ -96,113 +96,153 @@ Vec3 lineDerivative(const std::vector<Vec3>& c, const std::vector<double>& h, in
     return d;
 }
 
+// Builds the mesh of a patch grid step by step: knots from the handle lengths, node positions
+// and derivatives from the handles (u-breaks where the two sides disagree), colour derivatives,
+// then the tangent breaks.
+class GridMeshBuilder {
+public:
+    explicit GridMeshBuilder(const SvgPatchGrid& g)
+        : g_(g),
+          C_(g.columns),
+          R_(g.rows),
+          mesh_(C_, R_),
+          breakAt_(static_cast<size_t>(C_ + 1) * (R_ + 1), 0),
+          leftPosU_(breakAt_.size()) {}
+
+    GradientMesh build() {
+        chooseKnots();
+        for (int r = 0; r <= R_; ++r)
+            for (int c = 0; c <= C_; ++c) placeNode(c, r);
+        if (g_.bicubic)
+            mesh_.colorModel = ColorModel::Bicubic;  // exactly what Inkscape draws from the file
+        else
+            colorDerivatives();
+        for (int r = 0; r <= R_; ++r)
+            for (int c = 1; c < C_; ++c)
+                if (breakAt(c, r)) addBreak(c, r);
+        return std::move(mesh_);
+    }
+
+private:
+    char& breakAt(int c, int r) { return breakAt_[static_cast<size_t>(r) * (C_ + 1) + c]; }
+
+    void chooseKnots() {
+        const SvgPatchGrid& g = g_;
+        const int C = C_, R = R_;
+        du_ = knotIntervals(
+            C, R + 1, [&](int r, int c) { return g.P(c, r) - g.H(c - 1, r)[1]; },
+            [&](int r, int c) { return g.H(c, r)[0] - g.P(c, r); },
+            [&](int c) {
+                double s = 0;
+                for (int r = 0; r <= R; ++r) s += norm(g.P(c + 1, r) - g.P(c, r));
+                return s;
+            });
+        dv_ = knotIntervals(
+            R, C + 1, [&](int c, int r) { return g.P(c, r) - g.V(c, r - 1)[1]; },
+            [&](int c, int r) { return g.V(c, r)[0] - g.P(c, r); },
+            [&](int r) {
+                double s = 0;
+                for (int c = 0; c <= C; ++c) s += norm(g.P(c, r + 1) - g.P(c, r));
+                return s;
+            });
+        for (int i = 0; i < C; ++i) mesh_.u[i + 1] = mesh_.u[i] + du_[i];
+        for (int j = 0; j < R; ++j) mesh_.v[j + 1] = mesh_.v[j] + dv_[j];
+    }
+
+    // Node (c, r): position, colour and position derivatives. Along u the two sides' handles
+    // are averaged when they agree, else the node gets a break (the right side's derivative;
+    // the left one kept in leftPosU_); along v they are always averaged.
+    void placeNode(int c, int r) {
+        const SvgPatchGrid& g = g_;
+        Node& n = mesh_.node(c, r);
+        n.pos = g.P(c, r);
+        n.col = g.C(c, r);
+        const bool hasL = c > 0, hasR = c < C_;
+        const Vec2 dL = hasL ? (3.0 / du_[c - 1]) * (g.P(c, r) - g.H(c - 1, r)[1]) : Vec2{};
+        const Vec2 dR = hasR ? (3.0 / du_[c]) * (g.H(c, r)[0] - g.P(c, r)) : Vec2{};
+        if (hasL && hasR) {
+            const Vec2 avg = 0.5 * (dL + dR);
+            const double moveL = norm(avg - dL) * du_[c - 1] / 3,
+                         moveR = norm(avg - dR) * du_[c] / 3;
+            if (moveL <= kHandleAgreement && moveR <= kHandleAgreement) {
+                n.posU = avg;
+            } else {
+                n.posU = dR;
+                breakAt(c, r) = 1;
+                leftPosU_[static_cast<size_t>(r) * (C_ + 1) + c] = dL;
+            }
+        } else {
+            n.posU = hasL ? dL : dR;
+        }
+        const bool hasA = r > 0, hasB = r < R_;
+        const Vec2 dA = hasA ? (3.0 / dv_[r - 1]) * (g.P(c, r) - g.V(c, r - 1)[1]) : Vec2{};
+        const Vec2 dB = hasB ? (3.0 / dv_[r]) * (g.V(c, r)[0] - g.P(c, r)) : Vec2{};
+        n.posV = (hasA && hasB) ? 0.5 * (dA + dB) : (hasA ? dA : dB);
+    }
+
+    // The colours along node row r.
+    std::vector<Vec3> rowColors(int r) const {
+        std::vector<Vec3> line(static_cast<size_t>(C_) + 1);
+        for (int c = 0; c <= C_; ++c) line[c] = g_.C(c, r);
+        return line;
+    }
+
+    // Hermite colour derivatives interpolated along the node rows (sections between u-breaks
+    // separately) and columns.
+    void colorDerivatives() {
+        for (int r = 0; r <= R_; ++r) {
+            const std::vector<Vec3> line = rowColors(r);
+            std::vector<int> cuts{0};
+            for (int c = 1; c < C_; ++c)
+                if (breakAt(c, r)) cuts.push_back(c);
+            cuts.push_back(C_);
+            for (size_t s = 0; s + 1 < cuts.size(); ++s) {
+                const int a = cuts[s], b = cuts[s + 1];
+                // Left to right: at a break the right section's value is the node's.
+                for (int c = a; c <= b; ++c)
+                    mesh_.node(c, r).colU = lineDerivative(line, du_, c, a, b);
+            }
+        }
+        std::vector<Vec3> column;
+        for (int c = 0; c <= C_; ++c) {
+            column.assign(static_cast<size_t>(R_) + 1, Vec3{});
+            for (int r = 0; r <= R_; ++r) column[r] = g_.C(c, r);
+            for (int r = 0; r <= R_; ++r)
+                mesh_.node(c, r).colV = lineDerivative(column, dv_, r, 0, R_);
+        }
+    }
+
+    // The break at node (c, r): the patches left of the node use the left-side derivative.
+    void addBreak(int c, int r) {
+        Vec3 colL = mesh_.node(c, r).colU;
+        if (!g_.bicubic) {
+            const std::vector<Vec3> line = rowColors(r);
+            int a = 0;
+            for (int k = c - 1; k > 0; --k)
+                if (breakAt(k, r)) {
+                    a = k;
+                    break;
+                }
+            colL = lineDerivative(line, du_, c, a, c);
+        }
+        const Vec2 posL = leftPosU_[static_cast<size_t>(r) * (C_ + 1) + c];
+        if (r > 0) mesh_.tangents.push_back({c - 1, r - 1, 1, 1, posL, colL});
+        if (r < R_) mesh_.tangents.push_back({c - 1, r, 1, 0, posL, colL});
+    }
+
+    const SvgPatchGrid& g_;
+    const int C_, R_;
+    GradientMesh mesh_;
+    std::vector<double> du_, dv_;
+    std::vector<char> breakAt_;  // per node: the u-derivative differs on its two sides
+    std::vector<Vec2> leftPosU_;
+};
+
 }  // namespace
 
 GradientMesh meshFromPatchGrid(const SvgPatchGrid& g, const std::string& fileName,
                                const std::string& where) {
-    const int C = g.columns, R = g.rows;
-    GradientMesh mesh(C, R);
-
-    const std::vector<double> du = knotIntervals(
-        C, R + 1, [&](int r, int c) { return g.P(c, r) - g.H(c - 1, r)[1]; },
-        [&](int r, int c) { return g.H(c, r)[0] - g.P(c, r); },
-        [&](int c) {
-            double s = 0;
-            for (int r = 0; r <= R; ++r) s += norm(g.P(c + 1, r) - g.P(c, r));
-            return s;
-        });
-    const std::vector<double> dv = knotIntervals(
-        R, C + 1, [&](int c, int r) { return g.P(c, r) - g.V(c, r - 1)[1]; },
-        [&](int c, int r) { return g.V(c, r)[0] - g.P(c, r); },
-        [&](int r) {
-            double s = 0;
-            for (int c = 0; c <= C; ++c) s += norm(g.P(c, r + 1) - g.P(c, r));
-            return s;
-        });
-    for (int i = 0; i < C; ++i) mesh.u[i + 1] = mesh.u[i] + du[i];
-    for (int j = 0; j < R; ++j) mesh.v[j + 1] = mesh.v[j] + dv[j];
-
-    // breakAt[j*(C+1)+i]: the u-derivative at node (i,j) differs on its two sides.
-    std::vector<char> breakAt(static_cast<size_t>(C + 1) * (R + 1), 0);
-    std::vector<Vec2> leftPosU(breakAt.size());
-    for (int r = 0; r <= R; ++r) {
-        for (int c = 0; c <= C; ++c) {
-            Node& n = mesh.node(c, r);
-            n.pos = g.P(c, r);
-            n.col = g.C(c, r);
-            const bool hasL = c > 0, hasR = c < C;
-            const Vec2 dL = hasL ? (3.0 / du[c - 1]) * (g.P(c, r) - g.H(c - 1, r)[1]) : Vec2{};
-            const Vec2 dR = hasR ? (3.0 / du[c]) * (g.H(c, r)[0] - g.P(c, r)) : Vec2{};
-            if (hasL && hasR) {
-                const Vec2 avg = 0.5 * (dL + dR);
-                const double moveL = norm(avg - dL) * du[c - 1] / 3, moveR = norm(avg - dR) * du[c] / 3;
-                if (moveL <= kHandleAgreement && moveR <= kHandleAgreement) {
-                    n.posU = avg;
-                } else {
-                    n.posU = dR;
-                    breakAt[static_cast<size_t>(r) * (C + 1) + c] = 1;
-                    leftPosU[static_cast<size_t>(r) * (C + 1) + c] = dL;
-                }
-            } else {
-                n.posU = hasL ? dL : dR;
-            }
-            // v: no breaks in the representation; the two sides are averaged.
-            const bool hasA = r > 0, hasB = r < R;
-            const Vec2 dA = hasA ? (3.0 / dv[r - 1]) * (g.P(c, r) - g.V(c, r - 1)[1]) : Vec2{};
-            const Vec2 dB = hasB ? (3.0 / dv[r]) * (g.V(c, r)[0] - g.P(c, r)) : Vec2{};
-            n.posV = (hasA && hasB) ? 0.5 * (dA + dB) : (hasA ? dA : dB);
-        }
-    }
-
-    // Colour derivatives.
-    if (g.bicubic) {
-        mesh.colorModel = ColorModel::Bicubic;  // exactly what Inkscape draws from the file
-    } else {
-        std::vector<Vec3> line;
-        for (int r = 0; r <= R; ++r) {
-            line.assign(static_cast<size_t>(C) + 1, Vec3{});
-            for (int c = 0; c <= C; ++c) line[c] = g.C(c, r);
-            // Sections between u-breaks are interpolated separately.
-            std::vector<int> cuts{0};
-            for (int c = 1; c < C; ++c)
-                if (breakAt[static_cast<size_t>(r) * (C + 1) + c]) cuts.push_back(c);
-            cuts.push_back(C);
-            for (size_t s = 0; s + 1 < cuts.size(); ++s) {
-                const int a = cuts[s], b = cuts[s + 1];
-                // Left to right: at a break the right section's value is the node's.
-                for (int c = a; c <= b; ++c) mesh.node(c, r).colU = lineDerivative(line, du, c, a, b);
-            }
-        }
-        std::vector<Vec3> column;
-        for (int c = 0; c <= C; ++c) {
-            column.assign(static_cast<size_t>(R) + 1, Vec3{});
-            for (int r = 0; r <= R; ++r) column[r] = g.C(c, r);
-            for (int r = 0; r <= R; ++r) mesh.node(c, r).colV = lineDerivative(column, dv, r, 0, R);
-        }
-    }
-
-    // Breaks: the patches left of the node use the left-side derivative.
-    for (int r = 0; r <= R; ++r) {
-        for (int c = 1; c < C; ++c) {
-            if (!breakAt[static_cast<size_t>(r) * (C + 1) + c]) continue;
-            Vec3 colL = mesh.node(c, r).colU;
-            if (!g.bicubic) {
-                std::vector<Vec3> line(static_cast<size_t>(C) + 1);
-                for (int k = 0; k <= C; ++k) line[k] = g.C(k, r);
-                int a = 0;
-                for (int k = c - 1; k > 0; --k)
-                    if (breakAt[static_cast<size_t>(r) * (C + 1) + k]) {
-                        a = k;
-                        break;
-                    }
-                colL = lineDerivative(line, du, c, a, c);
-            }
-            const Vec2 posL = leftPosU[static_cast<size_t>(r) * (C + 1) + c];
-            if (r > 0) mesh.tangents.push_back({c - 1, r - 1, 1, 1, posL, colL});
-            if (r < R) mesh.tangents.push_back({c - 1, r, 1, 0, posL, colL});
-        }
-    }
-
+    GradientMesh mesh = GridMeshBuilder(g).build();
     const std::string problem = validateMesh(mesh);
     if (!problem.empty()) throw Error("meshgradient gives an invalid mesh: " + problem, fileName, where);
     return mesh;

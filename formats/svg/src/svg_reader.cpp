@@ -313,6 +313,26 @@ public:
 
     // The rows of `array` read into a grid whose first corner is `origin` (gradient space).
     SvgPatchGrid grid(const XMLElement* array, Vec2 origin, const ReadLimits& limits) const {
+        const std::vector<std::vector<const XMLElement*>> rows = meshRows(array, limits);
+        const int C = static_cast<int>(rows.front().size()), R = static_cast<int>(rows.size());
+        SvgPatchGrid g;
+        g.resize(C, R);
+        g.P(0, 0) = origin;
+        for (int r = 0; r < R; ++r)
+            for (int c = 0; c < C; ++c) {
+                readPatch(rows[r][c], c, r, g);
+                readTensor(rows[r][c], c, r, g);
+            }
+        return g;
+    }
+
+    const std::string& file() const { return file_; }
+
+private:
+    // The meshpatch elements of each meshrow of `array`; every row as long as the first, the
+    // grid within the reader's limits.
+    std::vector<std::vector<const XMLElement*>> meshRows(const XMLElement* array,
+                                                         const ReadLimits& limits) const {
         std::vector<std::vector<const XMLElement*>> rows;
         for (const XMLElement* r = array->FirstChildElement(); r; r = r->NextSiblingElement()) {
             if (!isNamed(r, "meshrow")) continue;
@@ -332,75 +352,80 @@ public:
             fail("mesh of " + std::to_string(C) + " x " + std::to_string(R) +
                      " patches is over the reader's limits",
                  array);
-        SvgPatchGrid g;
-        g.resize(static_cast<int>(C), static_cast<int>(R));
-        g.P(0, 0) = origin;
-        for (int r = 0; r < static_cast<int>(R); ++r) {
-            for (int c = 0; c < static_cast<int>(C); ++c) {
-                const XMLElement* patch = rows[r][c];
-                std::vector<const XMLElement*> stops;
-                for (const XMLElement* s = patch->FirstChildElement(); s; s = s->NextSiblingElement())
-                    if (isNamed(s, "stop")) stops.push_back(s);
-                const size_t expected = (r == 0 ? 1 : 0) + (c == 0 ? 1 : 0) + 2;
-                if (stops.size() != expected)
-                    fail("meshpatch " + std::to_string(c + 1) + " of meshrow " +
-                             std::to_string(r + 1) + " has " + std::to_string(stops.size()) +
-                             " stops, expected " + std::to_string(expected),
-                         patch);
-                size_t k = 0;
-                Vec2 end;
-                if (r == 0) {  // top
-                    auto& h = g.H(c, 0);
-                    edge(stops[k], g.P(c, 0), false, h[0], h[1], end);
-                    g.P(c + 1, 0) = end;
-                    if (c == 0) g.C(0, 0) = color(stops[k]);
-                    ++k;
-                }
-                {  // right
-                    auto& h = g.V(c + 1, r);
-                    edge(stops[k], g.P(c + 1, r), false, h[0], h[1], end);
-                    g.P(c + 1, r + 1) = end;
-                    if (r == 0) g.C(c + 1, 0) = color(stops[k]);
-                    ++k;
-                }
-                {  // bottom, right to left
-                    Vec2 h1, h2;
-                    end = g.P(c, r + 1);
-                    edge(stops[k], g.P(c + 1, r + 1), c > 0, h1, h2, end);
-                    g.H(c, r + 1) = {h2, h1};
-                    if (c == 0) g.P(0, r + 1) = end;
-                    g.C(c + 1, r + 1) = color(stops[k]);
-                    ++k;
-                }
-                if (c == 0) {  // left, bottom to top
-                    Vec2 h1, h2;
-                    end = g.P(0, r);
-                    edge(stops[k], g.P(0, r + 1), true, h1, h2, end);
-                    g.V(0, r) = {h2, h1};
-                    g.C(0, r + 1) = color(stops[k]);
-                }
-                if (const char* t = patch->Attribute("tensor")) {
-                    const Vec2 base[4] = {g.P(c, r), g.P(c + 1, r), g.P(c + 1, r + 1), g.P(c, r + 1)};
-                    const char* p = t;
-                    auto& ts = g.tensor[g.patchIndex(c, r)];
-                    for (int q = 0; q < 4; ++q) {
-                        double x = 0, y = 0;
-                        if (!number(p, x, patch, "tensor") || !number(p, y, patch, "tensor"))
-                            fail("tensor attribute needs 8 numbers", patch);
-                        ts[q] = base[q] + Vec2{x, y};
-                    }
-                    skipSeparators(p);
-                    if (*p) fail("tensor attribute has extra text", patch);
-                    g.tensorSet[g.patchIndex(c, r)] = 1;
-                }
-            }
-        }
-        return g;
+        return rows;
     }
 
-    const std::string& file() const { return file_; }
+    // The stops of patch (c, r): the edges it does not share with an earlier patch (top in the
+    // first row, left in the first column, always right and bottom).
+    std::vector<const XMLElement*> patchStops(const XMLElement* patch, int c, int r) const {
+        std::vector<const XMLElement*> stops;
+        for (const XMLElement* s = patch->FirstChildElement(); s; s = s->NextSiblingElement())
+            if (isNamed(s, "stop")) stops.push_back(s);
+        const size_t expected = (r == 0 ? 1 : 0) + (c == 0 ? 1 : 0) + 2;
+        if (stops.size() != expected)
+            fail("meshpatch " + std::to_string(c + 1) + " of meshrow " + std::to_string(r + 1) +
+                     " has " + std::to_string(stops.size()) + " stops, expected " +
+                     std::to_string(expected),
+                 patch);
+        return stops;
+    }
 
-private:
+    // Patch (c, r)'s new edges, corners and corner colours into the grid.
+    void readPatch(const XMLElement* patch, int c, int r, SvgPatchGrid& g) const {
+        const std::vector<const XMLElement*> stops = patchStops(patch, c, r);
+        size_t k = 0;
+        Vec2 end;
+        if (r == 0) {  // top
+            auto& h = g.H(c, 0);
+            edge(stops[k], g.P(c, 0), false, h[0], h[1], end);
+            g.P(c + 1, 0) = end;
+            if (c == 0) g.C(0, 0) = color(stops[k]);
+            ++k;
+        }
+        {  // right
+            auto& h = g.V(c + 1, r);
+            edge(stops[k], g.P(c + 1, r), false, h[0], h[1], end);
+            g.P(c + 1, r + 1) = end;
+            if (r == 0) g.C(c + 1, 0) = color(stops[k]);
+            ++k;
+        }
+        {  // bottom, right to left
+            Vec2 h1, h2;
+            end = g.P(c, r + 1);
+            edge(stops[k], g.P(c + 1, r + 1), c > 0, h1, h2, end);
+            g.H(c, r + 1) = {h2, h1};
+            if (c == 0) g.P(0, r + 1) = end;
+            g.C(c + 1, r + 1) = color(stops[k]);
+            ++k;
+        }
+        if (c == 0) {  // left, bottom to top
+            Vec2 h1, h2;
+            end = g.P(0, r);
+            edge(stops[k], g.P(0, r + 1), true, h1, h2, end);
+            g.V(0, r) = {h2, h1};
+            g.C(0, r + 1) = color(stops[k]);
+        }
+    }
+
+    // Patch (c, r)'s `tensor` attribute, if any: its four interior control points as offsets
+    // from the corners.
+    void readTensor(const XMLElement* patch, int c, int r, SvgPatchGrid& g) const {
+        const char* t = patch->Attribute("tensor");
+        if (!t) return;
+        const Vec2 base[4] = {g.P(c, r), g.P(c + 1, r), g.P(c + 1, r + 1), g.P(c, r + 1)};
+        const char* p = t;
+        auto& ts = g.tensor[g.patchIndex(c, r)];
+        for (int q = 0; q < 4; ++q) {
+            double x = 0, y = 0;
+            if (!number(p, x, patch, "tensor") || !number(p, y, patch, "tensor"))
+                fail("tensor attribute needs 8 numbers", patch);
+            ts[q] = base[q] + Vec2{x, y};
+        }
+        skipSeparators(p);
+        if (*p) fail("tensor attribute has extra text", patch);
+        g.tensorSet[g.patchIndex(c, r)] = 1;
+    }
+
     std::string file_;
 };
 

@@ -227,95 +227,119 @@ Vec2 coonsInterior(const Vec2 (&q)[4][4], bool mirrorU, bool mirrorV) {
                         2.0 * (at(3, 0) + at(0, 3)) + 3.0 * (at(1, 3) + at(3, 1)) - at(3, 3));
 }
 
+// Writes one meshgradient patch by patch. Corners are tracked as the reader reconstructs them
+// (each edge written relative to where the previous one ended, at the precision written).
+class MeshGradientWriter {
+public:
+    MeshGradientWriter(std::string& out, const SvgPatchGrid& g, const NumberSyntax& syntax)
+        : out_(out),
+          g_(g),
+          syntax_(syntax),
+          dec_(syntax.decimals),
+          // The tensor attribute is left out when the Coons interior Inkscape would assume is
+          // the same point at the precision written (exact syntax), or within kTensorTolerance
+          // px (compact syntax: the interior points move the patch's inside, not its edges).
+          tensorTol_(syntax.compact ? kTensorTolerance : 1.5e-4),
+          rec_(static_cast<size_t>(g.columns + 1) * (g.rows + 1)) {}
+
+    void write(const std::string& id, bool bicubic) {
+        R(0, 0) = printed(g_.P(0, 0), dec_);
+        out_ += "<meshgradient id=\"" + id + "\" gradientUnits=\"userSpaceOnUse\" x=\"";
+        appendSvgNumber(out_, g_.P(0, 0).x, false, dec_);
+        out_ += "\" y=\"";
+        appendSvgNumber(out_, g_.P(0, 0).y, false, dec_);
+        out_ += '"';
+        if (bicubic) out_ += " type=\"bicubic\"";
+        out_ += ">\n";
+        for (int r = 0; r < g_.rows; ++r) {
+            out_ += "<meshrow>\n";
+            for (int c = 0; c < g_.columns; ++c) patch(c, r);
+            out_ += "</meshrow>\n";
+        }
+        out_ += "</meshgradient>\n";
+    }
+
+private:
+    Vec2& R(int c, int r) { return rec_[static_cast<size_t>(r) * (g_.columns + 1) + c]; }
+
+    void patch(int c, int r) {
+        const SvgPatchGrid& g = g_;
+        stops_.clear();
+        if (r == 0) {  // top, from (c,0) to (c+1,0)
+            const auto& h = g.H(c, 0);
+            R(c + 1, 0) = appendStop(stops_, R(c, 0), h[0], h[1], g.P(c + 1, 0), false,
+                                     c == 0 ? &g.C(c, 0) : nullptr, syntax_);
+        }
+        {  // right, from (c+1,r) to (c+1,r+1)
+            const auto& h = g.V(c + 1, r);
+            R(c + 1, r + 1) = appendStop(stops_, R(c + 1, r), h[0], h[1], g.P(c + 1, r + 1), false,
+                                         r == 0 ? &g.C(c + 1, r) : nullptr, syntax_);
+        }
+        {  // bottom, from (c+1,r+1) to (c,r+1); closes the patch unless c == 0
+            const auto& h = g.H(c, r + 1);
+            const Vec2 e = appendStop(stops_, R(c + 1, r + 1), h[1], h[0], g.P(c, r + 1), c > 0,
+                                      &g.C(c + 1, r + 1), syntax_);
+            if (c == 0) R(0, r + 1) = e;
+        }
+        if (c == 0) {  // left, from (0,r+1) to (0,r): always closing
+            const auto& h = g.V(0, r);
+            appendStop(stops_, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1), syntax_);
+        }
+        out_ += "<meshpatch";
+        if (g.tensorSet[g.patchIndex(c, r)]) tensor(c, r);
+        out_ += '>';
+        out_ += stops_;
+        out_ += syntax_.compact ? "</meshpatch>" : "</meshpatch>\n";
+    }
+
+    // The patch's tensor attribute, unless it would change nothing: the reconstructed control
+    // net's Coons interior (what Inkscape assumes) compared with the interior written.
+    void tensor(int c, int r) {
+        const SvgPatchGrid& g = g_;
+        const int dec = dec_;
+        Vec2 q[4][4];
+        const Vec2 c00 = R(c, r), c30 = R(c + 1, r), c33 = R(c + 1, r + 1), c03 = R(c, r + 1);
+        q[0][0] = c00;
+        q[3][0] = c30;
+        q[3][3] = c33;
+        q[0][3] = c03;
+        q[1][0] = c00 + printed(g.H(c, r)[0] - c00, dec);
+        q[2][0] = c00 + printed(g.H(c, r)[1] - c00, dec);
+        q[3][1] = c30 + printed(g.V(c + 1, r)[0] - c30, dec);
+        q[3][2] = c30 + printed(g.V(c + 1, r)[1] - c30, dec);
+        q[2][3] = c33 + printed(g.H(c, r + 1)[1] - c33, dec);
+        q[1][3] = c33 + printed(g.H(c, r + 1)[0] - c33, dec);
+        q[0][2] = c03 + printed(g.V(c, r)[1] - c03, dec);
+        q[0][1] = c03 + printed(g.V(c, r)[0] - c03, dec);
+        const auto& t = g.tensor[g.patchIndex(c, r)];
+        const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
+                               coonsInterior(q, true, true), coonsInterior(q, false, true)};
+        const Vec2 base[4] = {c00, c30, c33, c03};
+        bool differs = false;
+        for (int k = 0; k < 4; ++k)
+            if (!nearlyEqual(printed(t[k] - base[k], dec), coons[k] - base[k], tensorTol_))
+                differs = true;
+        if (!differs) return;
+        out_ += " tensor=\"";
+        const size_t at = out_.size();
+        appendPoints(out_, {t[0] - base[0], t[1] - base[1], t[2] - base[2], t[3] - base[3]},
+                     syntax_);
+        if (!syntax_.compact) out_.erase(at, 1);  // no space before the first pair
+        out_ += '"';
+    }
+
+    std::string& out_;
+    const SvgPatchGrid& g_;
+    const NumberSyntax& syntax_;
+    const int dec_;
+    const double tensorTol_;
+    std::vector<Vec2> rec_;  // corners as the reader reconstructs them
+    std::string stops_;
+};
+
 void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::string& id,
                         bool bicubic, const NumberSyntax& syntax) {
-    const int dec = syntax.decimals;
-    // The tensor attribute is left out when the Coons interior Inkscape would assume is the
-    // same point at the precision written (exact syntax), or within kTensorTolerance px
-    // (compact syntax: the interior points move the patch's inside, not its edges).
-    const double tensorTol = syntax.compact ? kTensorTolerance : 1.5e-4;
-    const int nu = g.columns, nv = g.rows;
-    // Corners as the reader reconstructs them.
-    std::vector<Vec2> rec(static_cast<size_t>(nu + 1) * (nv + 1));
-    auto R = [&](int c, int r) -> Vec2& { return rec[static_cast<size_t>(r) * (nu + 1) + c]; };
-    R(0, 0) = printed(g.P(0, 0), dec);
-
-    out += "<meshgradient id=\"" + id + "\" gradientUnits=\"userSpaceOnUse\" x=\"";
-    appendSvgNumber(out, g.P(0, 0).x, false, dec);
-    out += "\" y=\"";
-    appendSvgNumber(out, g.P(0, 0).y, false, dec);
-    out += '"';
-    if (bicubic) out += " type=\"bicubic\"";
-    out += ">\n";
-    std::string stops;
-    for (int r = 0; r < nv; ++r) {
-        out += "<meshrow>\n";
-        for (int c = 0; c < nu; ++c) {
-            stops.clear();
-            if (r == 0) {  // top, from (c,0) to (c+1,0)
-                const auto& h = g.H(c, 0);
-                R(c + 1, 0) = appendStop(stops, R(c, 0), h[0], h[1], g.P(c + 1, 0), false,
-                                         c == 0 ? &g.C(c, 0) : nullptr, syntax);
-            }
-            {  // right, from (c+1,r) to (c+1,r+1)
-                const auto& h = g.V(c + 1, r);
-                R(c + 1, r + 1) = appendStop(stops, R(c + 1, r), h[0], h[1], g.P(c + 1, r + 1),
-                                             false, r == 0 ? &g.C(c + 1, r) : nullptr, syntax);
-            }
-            {  // bottom, from (c+1,r+1) to (c,r+1); closes the patch unless c == 0
-                const auto& h = g.H(c, r + 1);
-                const Vec2 e = appendStop(stops, R(c + 1, r + 1), h[1], h[0], g.P(c, r + 1),
-                                          c > 0, &g.C(c + 1, r + 1), syntax);
-                if (c == 0) R(0, r + 1) = e;
-            }
-            if (c == 0) {  // left, from (0,r+1) to (0,r): always closing
-                const auto& h = g.V(0, r);
-                appendStop(stops, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1), syntax);
-            }
-            out += "<meshpatch";
-            const size_t pi = g.patchIndex(c, r);
-            if (g.tensorSet[pi]) {
-                // Reconstructed control net, to compare with the Coons interior Inkscape
-                // would assume: the attribute is left out when it would change nothing.
-                Vec2 q[4][4];
-                const Vec2 c00 = R(c, r), c30 = R(c + 1, r), c33 = R(c + 1, r + 1),
-                           c03 = R(c, r + 1);
-                q[0][0] = c00;
-                q[3][0] = c30;
-                q[3][3] = c33;
-                q[0][3] = c03;
-                q[1][0] = c00 + printed(g.H(c, r)[0] - c00, dec);
-                q[2][0] = c00 + printed(g.H(c, r)[1] - c00, dec);
-                q[3][1] = c30 + printed(g.V(c + 1, r)[0] - c30, dec);
-                q[3][2] = c30 + printed(g.V(c + 1, r)[1] - c30, dec);
-                q[2][3] = c33 + printed(g.H(c, r + 1)[1] - c33, dec);
-                q[1][3] = c33 + printed(g.H(c, r + 1)[0] - c33, dec);
-                q[0][2] = c03 + printed(g.V(c, r)[1] - c03, dec);
-                q[0][1] = c03 + printed(g.V(c, r)[0] - c03, dec);
-                const auto& t = g.tensor[pi];
-                const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
-                                       coonsInterior(q, true, true), coonsInterior(q, false, true)};
-                const Vec2 base[4] = {c00, c30, c33, c03};
-                bool differs = false;
-                for (int k = 0; k < 4; ++k)
-                    if (!nearlyEqual(printed(t[k] - base[k], dec), coons[k] - base[k], tensorTol))
-                        differs = true;
-                if (differs) {
-                    out += " tensor=\"";
-                    const size_t at = out.size();
-                    appendPoints(out, {t[0] - base[0], t[1] - base[1], t[2] - base[2], t[3] - base[3]},
-                                 syntax);
-                    if (!syntax.compact) out.erase(at, 1);  // no space before the first pair
-                    out += '"';
-                }
-            }
-            out += '>';
-            out += stops;
-            out += syntax.compact ? "</meshpatch>" : "</meshpatch>\n";
-        }
-        out += "</meshrow>\n";
-    }
-    out += "</meshgradient>\n";
+    MeshGradientWriter(out, g, syntax).write(id, bicubic);
 }
 
 // Where a piece of a slit mesh meets the piece above or below it outside the holes: the patch
