@@ -101,10 +101,10 @@ class FormatRegistry {
 public:
     // The registry with every built-in format (formats/builtin_formats.cpp).
     static const FormatRegistry& builtin();
-    // The built-in formats that read meshes (.gmb, SVG), the same as builtin()'s, for programs
-    // that must not load the raster library (formats/mesh_readers.cpp, target
-    // formats_mesh_readers). forReading() finds a format here exactly when it finds the same
-    // one in builtin(): only these formats read.
+    // The built-in formats that read meshes (.gmb, SVG), as in builtin(), for programs that
+    // must not load the raster library (formats/mesh_readers.cpp, target formats_mesh_readers).
+    // Only these formats read, so forReading() finds here the format builtin() finds for any
+    // file that builtin() can read.
     static const FormatRegistry& meshReaders();
 
     void add(std::unique_ptr<MeshFormat> format);
