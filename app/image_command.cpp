@@ -37,38 +37,6 @@ const std::set<std::string> kImageValuedOptions = {
     "--total-patches"};
 const std::set<std::string> kImageFlagOptions = {"--segment"};
 
-const char* kImageConvertHelp =
-    "  raster input (IN is .png .jpg .tif .exr ...): the object becomes gradient meshes\n"
-    "  --mask M.png            object mask (white = object); else the alpha channel when it\n"
-    "                          makes 0.1% of the pixels or more transparent (alpha < 0.5);\n"
-    "                          else foreground extraction (GrabCut)\n"
-    "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
-    "  --max-patches N         patch budget per region (default 400; with --segment 8000,\n"
-    "                          and at most one patch per 8 pixels of the region)\n"
-    "  --colors MODE           bicubic (default: node colours fitted, slopes by SVG's bicubic\n"
-    "                          rule, so the SVG is one patch per patch exactly as Inkscape\n"
-    "                          draws it; no slopes in the .gmb), hermite (free slopes: the\n"
-    "                          least raster error per patch; the SVG refits them) or sampled\n"
-    "                          (the paper's: node colours sampled, bicubic). fit and rule are\n"
-    "                          aliases of hermite and bicubic\n"
-    "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
-    "  --report R.html         the same conversion as a page to look at (gradmesh view --help)\n"
-    "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
-    "  --min-area N            drop object components under N pixels (default 64)\n"
-    "  --min-hole N            fill holes under N pixels (default 16)\n"
-    "  --samples F             triangulation samples per region pixel (default 0.03,\n"
-    "                          at most 40000 per region)\n"
-    "  --segment               the whole image: segmented into large regions (graph-based,\n"
-    "                          GrabCut-refined), one mesh per region, holes included, over a\n"
-    "                          coarse base mesh so that every pixel is painted\n"
-    "  --segments N            with --segment: roughly how many regions (default: automatic)\n"
-    "  --min-region N          with --segment: merge regions under N pixels into a neighbour\n"
-    "                          (default: scaled to the image)\n"
-    "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
-    "                          out where it lowers the error most (each region converted at\n"
-    "                          several budgets; --max-error still stops each region)\n"
-    "  --threads N             regions converted at once (default: all cores)\n";
-
 namespace {
 
 // --colors: bicubic (the default; alias "rule"), hermite (alias "fit"), sampled.

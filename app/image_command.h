@@ -13,7 +13,6 @@ namespace gm {
 // Options of convert that only make sense for a raster input.
 extern const std::set<std::string> kImageValuedOptions;
 extern const std::set<std::string> kImageFlagOptions;  // passed in `values` with value "1"
-extern const char* kImageConvertHelp;
 
 // Converts the raster image `in` and writes `out` through `writer`. `values` holds the parsed
 // valued options (--mask, --max-error, ...). Throws gm::Error (input/output problems) or

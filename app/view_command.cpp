@@ -17,19 +17,6 @@
 
 namespace gm {
 
-const char* const kViewHelp =
-    "usage: gradmesh view IN -o PAGE.html [--image ORIGINAL] [options]\n"
-    "  Writes one self-contained HTML page (no network access) to look at a mesh file (.gmb\n"
-    "  .svg .svgz): our render, the mesh lines over it, zoom to 8x with pan, and the figures\n"
-    "  (patches, meshes, holes, colour model, bytes of each format). With the image the mesh\n"
-    "  was converted from, also that image, an error heat map and E / PSNR. From an image,\n"
-    "  `gradmesh convert IMG -o OUT --report PAGE.html` writes the same page with the\n"
-    "  conversion's own figures (seconds per stage). docs/view.md describes the page.\n"
-    "  -o, --output PATH       the page (.html or .htm; never the input)\n"
-    "  --image ORIGINAL        the source image (.png .jpg .tif .exr), the canvas's size\n"
-    "  --max-output-bytes N    the page, and each format's encoding (default 1073741824)\n"
-    "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n";
-
 const std::set<std::string> kViewValuedOptions = {"--image", "--max-output-bytes"};
 
 namespace {

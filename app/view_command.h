@@ -9,7 +9,6 @@
 
 namespace gm {
 
-extern const char* const kViewHelp;
 // The valued options of `view` (besides -o/--output).
 extern const std::set<std::string> kViewValuedOptions;
 

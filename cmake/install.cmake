@@ -1,12 +1,14 @@
-# `cmake --install`: the gradmesh command, the static libraries under their gradmesh_ names,
+# `cmake --install`: the gradmesh command (and gradmesh-imaging, which it runs, in
+# libexec/gradmesh/), the static libraries under their gradmesh_ names,
 # their headers under include/gradmesh/ (the umbrella header include/gradmesh/gradmesh.h), a
 # CMake package (find_package(gradmesh), target gradmesh::gradmesh) and a pkg-config file.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 # In link order (a library before what it uses), as the pkg-config file lists them.
-set(GRADMESH_LIBRARIES converters_pipeline formats_all formats_eps formats_pdf formats_mesh_shading
-    formats_svg formats_gmb formats_raster formats_registry meshcore)
+set(GRADMESH_LIBRARIES converters_pipeline converters_fit formats_all formats_mesh_readers
+    formats_eps formats_pdf formats_mesh_shading formats_svg formats_gmb formats_raster
+    formats_registry meshcore)
 set(GRADMESH_HEADER_DIRS meshcore/include converters/include)
 foreach(dir registry gmb svg eps pdf raster mesh_shading)
   list(APPEND GRADMESH_HEADER_DIRS formats/${dir}/include)
@@ -29,6 +31,7 @@ target_include_directories(gradmesh_library INTERFACE
 add_library(gradmesh::gradmesh ALIAS gradmesh_library)
 
 install(TARGETS gradmesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS gradmesh-imaging RUNTIME DESTINATION ${GRADMESH_IMAGING_DIR})
 install(TARGETS ${GRADMESH_LIBRARIES} gradmesh_library EXPORT gradmeshTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 foreach(dir ${GRADMESH_HEADER_DIRS})

@@ -34,38 +34,6 @@ FitError measure(const Document& doc, const RgbaImage& image, const ObjectMask& 
 }
 }  // namespace
 
-FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
-                         const std::vector<uint8_t>& mask) {
-    FitError e;
-    double sum = 0, sq = 0;
-    long uncovered = 0, n = 0;
-    for (int y = 0; y < reference.height; ++y)
-        for (int x = 0; x < reference.width; ++x) {
-            if (!mask[static_cast<size_t>(y) * reference.width + x]) continue;
-            ++n;
-            const float* a = reference.at(x, y);
-            const float* b = test.at(x, y);
-            if (b[3] < 0.5f) {
-                ++uncovered;
-                continue;
-            }
-            for (int c = 0; c < 3; ++c) {
-                // Clamped, as every writer's colours are (and every viewer's).
-                const double d = std::fabs(double(a[c]) - std::clamp(b[c], 0.0f, 1.0f)) * 255.0;
-                sum += d;
-                sq += d * d;
-                e.maxAbs = std::max(e.maxAbs, d);
-            }
-        }
-    const long covered = n - uncovered;
-    e.pixels = n;
-    e.uncovered = n ? double(uncovered) / n : 0;
-    e.meanAbs = covered ? sum / (3.0 * covered) : 0;
-    e.rmse = covered ? std::sqrt(sq / (3.0 * covered)) : 0;
-    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
-    return e;
-}
-
 std::string regionLabel(const Region& region) {
     const Vec2 at = region.outer.points.empty() ? Vec2{} : region.outer.points.front();
     return "(" + std::to_string(region.pixelCount) + " px, " + std::to_string(region.holes.size()) +

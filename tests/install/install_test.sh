@@ -7,7 +7,7 @@ mkdir -p "$work"
 prefix=$work/prefix
 
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
-for f in bin/gradmesh include/gradmesh/gradmesh.h lib/cmake/gradmesh/gradmeshConfig.cmake \
+for f in bin/gradmesh libexec/gradmesh/gradmesh-imaging include/gradmesh/gradmesh.h lib/cmake/gradmesh/gradmeshConfig.cmake \
          lib/pkgconfig/gradmesh.pc lib/libgradmesh_meshcore.a; do
   [ -e "$prefix/$f" ] || { echo "not installed: $f" >&2; exit 1; }
 done
@@ -23,6 +23,9 @@ cmake -S "$src/examples" -B "$work/cmake-build" -G Ninja -DCMAKE_BUILD_TYPE=Rele
 cmake --build "$work/cmake-build" >"$work/build.log"
 "$work/cmake-build/convert" "$src/samples/horse.png" "$work/horse.svg"
 "$prefix/bin/gradmesh" info "$work/horse.svg" | grep -E "^meshes: [1-9]"
+# The installed command finds gradmesh-imaging for the commands that need the image libraries.
+"$prefix/bin/gradmesh" render "$work/horse.svg" -o "$work/horse-render.png"
+[ -s "$work/horse-render.png" ] || { echo "the installed gradmesh rendered nothing" >&2; exit 1; }
 
 echo "== pkg-config gradmesh"
 flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs gradmesh)

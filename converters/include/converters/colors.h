@@ -55,6 +55,12 @@ struct FitError {
     long pixels = 0;       // region pixels
 };
 
+// The report's figures of `test` against `reference` over the pixels where mask (width*height,
+// row-major) is non-zero: pixels whose test alpha is under 0.5 count as uncovered and are left
+// out of E, RMSE, PSNR and max. Both images must have the mask's size.
+FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
+                         const std::vector<uint8_t>& mask);
+
 struct ColorResult {
     GradientMesh mesh;  // the input geometry with colours
     FitError error;

@@ -82,12 +82,6 @@ struct ConvertReport {
     int patches = 0;
 };
 
-// The report's figures of `test` against `reference` over the pixels where mask (width*height,
-// row-major) is non-zero: pixels whose test alpha is under 0.5 count as uncovered and are left
-// out of E, RMSE, PSNR and max. Both images must have the mask's size.
-FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
-                         const std::vector<uint8_t>& mask);
-
 // The stages of a region that do not depend on its patch budget (triangulation, topology and
 // feature maps, per choice of corners), kept for its conversions at other budgets. One cache
 // serves one region (the same pixels, outline and options but maxPatches); it may be shared by

@@ -1,5 +1,5 @@
 // The format registry: one reader/writer per format, found by name or file extension.
-// Nothing outside formats/builtin_formats.cpp names a format.
+// Nothing outside formats/builtin_formats.cpp and formats/mesh_readers.cpp names a format.
 #pragma once
 
 #include <array>
@@ -101,6 +101,11 @@ class FormatRegistry {
 public:
     // The registry with every built-in format (formats/builtin_formats.cpp).
     static const FormatRegistry& builtin();
+    // The built-in formats that read meshes (.gmb, SVG), as in builtin(), for programs that
+    // must not load the raster library (formats/mesh_readers.cpp, target formats_mesh_readers).
+    // Only these formats read, so forReading() finds here the format builtin() finds for any
+    // file that builtin() can read.
+    static const FormatRegistry& meshReaders();
 
     void add(std::unique_ptr<MeshFormat> format);
     const MeshFormat* byName(const std::string& name) const;

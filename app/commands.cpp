@@ -1,0 +1,178 @@
+// Every command of `gradmesh`, in one list: its name and its help. Both programs answer
+// --help, --version and `<command> --help` from here; gradmesh_main.cpp says which commands
+// run in the launcher and imaging_commands.cpp runs every command.
+#include "commands.h"
+
+#include <cstdio>
+#include <cstring>
+
+#include "meshcore/printable_text.h"
+
+namespace gm::cli {
+
+namespace {
+
+const char* const kMainHelp =
+    "gradmesh — raster images to topology-preserving gradient meshes\n"
+    "\n"
+    "usage: gradmesh <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  convert IN -o OUT     convert an image (.png .jpg ...) or a mesh file to .gmb .svg .eps .pdf .png\n"
+    "  render IN -o OUT.png  re-render a mesh file as a raster image\n"
+    "  info IN               meshes, grid sizes, holes, patches, bytes\n"
+    "  view IN -o PAGE.html  a page to look at a mesh file: render, mesh lines, zoom, figures\n"
+    "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
+    "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
+    "\n"
+    "`gradmesh <command> --help` describes each command.\n";
+
+// convert: the options of every input, then those of raster inputs.
+const char* const kConvertHelp =
+    "usage: gradmesh convert IN -o OUT [options]\n"
+    "  Reads IN (by content and extension) and writes OUT in the format of its extension.\n"
+    "  -o, --output PATH       output file (required; never the input)\n"
+    "  --compact               .gmb: quantised, compressed (positions within 1/64 px)\n"
+    "  --compact-level L       .gmb: compact on coarser grids, L = 0 (as --compact) to 6, or\n"
+    "                          auto (image inputs): the coarsest level whose file adds at most\n"
+    "                          5% to the mesh's E; 2 is ~40% smaller for ~0.2 dB on a photo.\n"
+    "                          From an image, colours are refitted to the file's grids\n"
+    "  --legacy                write every mesh with holes as its hole-free pieces\n"
+    "  --svg-colors MODE       SVG: bicubic (default: one patch per patch, type=bicubic, as\n"
+    "                          Inkscape draws it; Hermite meshes are refitted to it and the\n"
+    "                          error printed) or exact (Hermite colours kept by subdividing\n"
+    "                          patches; large). OUT.svgz writes it gzipped\n"
+    "  --svg-script MODE       SVG: embed (default: a script that draws the meshes in web\n"
+    "                          browsers, which have no mesh support; docs/browsers.md) or none\n"
+    "  --color-tolerance T     exact-colour subdivision tolerance, 0-255 units (default 1)\n"
+    "  --min-piece PX          exact colours: sub-patches at least PX canvas pixels long\n"
+    "                          (default 1; 0: split until within the tolerance, however small)\n"
+    "  --svg-fallback KIND     SVG: our render beneath the meshes, for viewers that draw no\n"
+    "                          meshes (browsers' <img>, CSS, librsvg): png (every viewer),\n"
+    "                          webp (lossless, smaller; browsers only, not librsvg) or none\n"
+    "                          (default). Not updated when the mesh is edited in Inkscape\n"
+    "  --text-shading          EPS/PDF: text DataSource instead of the binary stream\n"
+    "  --scale S               raster outputs: pixels per canvas pixel (default 1)\n"
+    "  --background COLOR      raster outputs: #rrggbb, #rrggbbaa, white, black or none\n"
+    "  --mesh-lines COLOR      raster outputs: draw every patch edge and node in COLOR\n"
+    "  limits (docs/limits.md), checked before the work:\n"
+    "  --max-memory SIZE       memory budget, e.g. 4G (default), 512M\n"
+    "  --max-document-patches N  patches of all meshes read or converted (default 1048576)\n"
+    "  --max-output-bytes N    SVG/EPS/PDF outputs (default 1073741824)\n"
+    "  --max-canvas-pixels N   raster outputs (default 268435456 = 16384^2)\n"
+    "  raster input (IN is .png .jpg .tif .exr ...): the object becomes gradient meshes\n"
+    "  --mask M.png            object mask (white = object); else the alpha channel when it\n"
+    "                          makes 0.1% of the pixels or more transparent (alpha < 0.5);\n"
+    "                          else foreground extraction (GrabCut)\n"
+    "  --max-error E           target mean error per region, 0-255 units (default 3)\n"
+    "  --max-patches N         patch budget per region (default 400; with --segment 8000,\n"
+    "                          and at most one patch per 8 pixels of the region)\n"
+    "  --colors MODE           bicubic (default: node colours fitted, slopes by SVG's bicubic\n"
+    "                          rule, so the SVG is one patch per patch exactly as Inkscape\n"
+    "                          draws it; no slopes in the .gmb), hermite (free slopes: the\n"
+    "                          least raster error per patch; the SVG refits them) or sampled\n"
+    "                          (the paper's: node colours sampled, bicubic). fit and rule are\n"
+    "                          aliases of hermite and bicubic\n"
+    "  --report R.json         per-stage seconds, patches, errors, bytes, refinement sequence\n"
+    "  --report R.html         the same conversion as a page to look at (gradmesh view --help)\n"
+    "  --max-pixels N          refuse larger images (default 67108864 = 64 Mi pixels)\n"
+    "  --min-area N            drop object components under N pixels (default 64)\n"
+    "  --min-hole N            fill holes under N pixels (default 16)\n"
+    "  --samples F             triangulation samples per region pixel (default 0.03,\n"
+    "                          at most 40000 per region)\n"
+    "  --segment               the whole image: segmented into large regions (graph-based,\n"
+    "                          GrabCut-refined), one mesh per region, holes included, over a\n"
+    "                          coarse base mesh so that every pixel is painted\n"
+    "  --segments N            with --segment: roughly how many regions (default: automatic)\n"
+    "  --min-region N          with --segment: merge regions under N pixels into a neighbour\n"
+    "                          (default: scaled to the image)\n"
+    "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
+    "                          out where it lowers the error most (each region converted at\n"
+    "                          several budgets; --max-error still stops each region)\n"
+    "  --threads N             regions converted at once (default: all cores)\n";
+
+const char* const kViewHelp =
+    "usage: gradmesh view IN -o PAGE.html [--image ORIGINAL] [options]\n"
+    "  Writes one self-contained HTML page (no network access) to look at a mesh file (.gmb\n"
+    "  .svg .svgz): our render, the mesh lines over it, zoom to 8x with pan, and the figures\n"
+    "  (patches, meshes, holes, colour model, bytes of each format). With the image the mesh\n"
+    "  was converted from, also that image, an error heat map and E / PSNR. From an image,\n"
+    "  `gradmesh convert IMG -o OUT --report PAGE.html` writes the same page with the\n"
+    "  conversion's own figures (seconds per stage). docs/view.md describes the page.\n"
+    "  -o, --output PATH       the page (.html or .htm; never the input)\n"
+    "  --image ORIGINAL        the source image (.png .jpg .tif .exr), the canvas's size\n"
+    "  --max-output-bytes N    the page, and each format's encoding (default 1073741824)\n"
+    "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n";
+
+}  // namespace
+
+const std::vector<Command>& commands() {
+    static const std::vector<Command> list = {
+        {"convert", kConvertHelp},
+        {"render",
+         "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR] [--mesh-lines COLOR]\n"
+         "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline).\n"
+         "  -o, --output PATH       .png .jpg .tif .exr\n"
+         "  --scale S               output pixels per canvas pixel (default 1)\n"
+         "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"
+         "  --mesh-lines COLOR      draw every patch edge (grid lines, outline, slits) and node in\n"
+         "                          COLOR over the render, as a mesh tool shows them\n"
+         "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n"},
+        {"info",
+         "usage: gradmesh info IN\n"
+         "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
+        {"compare",
+         "usage: gradmesh compare A B [--mask M] [--background COLOR] [--erode N]\n"
+         "  Error of image B against image A over the pixels where the mask is white (default:\n"
+         "  where A is opaque), in 0-255 units: E (mean absolute error per channel), RMSE, PSNR,\n"
+         "  max, the 99th percentile of the channel errors, and the fraction of those pixels that\n"
+         "  B leaves uncovered.\n"
+         "  --background COLOR  composite both images over this opaque colour first: B's partly\n"
+         "                      transparent pixels (seams between meshes) then count as the\n"
+         "                      background shows through them\n"
+         "  --erode N           leave out pixels within N px of the compared area's edge\n"},
+        {"view", kViewHelp},
+        {"sample",
+         "usage: gradmesh sample OUT\n"
+         "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
+         "  in the format of OUT's extension.\n"},
+    };
+    return list;
+}
+
+const Command* findCommand(const std::string& name) {
+    for (const Command& c : commands())
+        if (name == c.name) return &c;
+    return nullptr;
+}
+
+std::optional<int> answerWithoutRunning(int argc, char** argv) {
+    if (argc < 2) {
+        std::fputs(kMainHelp, stderr);
+        return 2;
+    }
+    const std::string name = argv[1];
+    if (name == "--help" || name == "-h" || name == "help") {
+        std::fputs(kMainHelp, stdout);
+        return 0;
+    }
+    if (name == "--version") {
+        std::puts("gradmesh 0.1.0");
+        return 0;
+    }
+    const Command* command = findCommand(name);
+    if (!command) {
+        std::fprintf(stderr, "gradmesh: unknown command '%s' (try gradmesh --help)\n",
+                     printableText(name).c_str());
+        return 2;
+    }
+    for (int k = 2; k < argc; ++k) {
+        if (std::strcmp(argv[k], "--help") == 0 || std::strcmp(argv[k], "-h") == 0) {
+            std::fputs(command->help, stdout);
+            return 0;
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace gm::cli

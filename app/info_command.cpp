@@ -1,0 +1,54 @@
+#include "info_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include "converters/bicubic_model.h"
+#include "meshcore/printable_text.h"
+#include "meshcore/split_legacy.h"
+
+namespace gm::cli {
+
+namespace {
+
+void printMesh(size_t k, const GradientMesh& m) {
+    std::printf("mesh %zu: %s, grid %d x %d, %d patches, %d holes, %d legacy pieces", k,
+                m.colorModel == ColorModel::Bicubic ? "bicubic" : "hermite", m.columns(),
+                m.rows(), m.patchCount(), m.holeCount(), legacyPieceCount(m));
+    if (!m.tangents.empty()) std::printf(", %zu tangent breaks", m.tangents.size());
+    std::printf("\n");
+}
+
+}  // namespace
+
+int infoCommand(const Args& a, const FormatRegistry& registry) {
+    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
+    const std::string in = a.positional[0];
+    const Document doc = readDocument(registry, in);
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(in, ec);
+    int patches = 0, holes = 0, pieces = 0;
+    for (const GradientMesh& m : doc.meshes) {
+        patches += m.patchCount();
+        holes += m.holeCount();
+        pieces += legacyPieceCount(m);
+    }
+    std::printf("file: %s\nformat: %s\nbytes: %llu\ncanvas: %d x %d\nmeshes: %zu\npatches: %d\n"
+                "holes: %d\nlegacy pieces: %d\n",
+                printableText(in).c_str(), readerFor(registry, in)->name().c_str(),
+                static_cast<unsigned long long>(bytes), doc.width, doc.height, doc.meshes.size(),
+                patches, holes, pieces);
+    for (size_t k = 0; k < doc.meshes.size(); ++k) printMesh(k, doc.meshes[k]);
+    // A Hermite mesh's colour slopes are its own; the SVG carries the bicubic rule's, so
+    // convert refits its colours: say how close that comes.
+    if (hasHermiteMeshes(doc)) {
+        const BicubicConversion c = toBicubicModel(doc);
+        std::printf("bicubic refit (svg): %d hermite mesh(es), E %.2f, PSNR %.2f dB, max %.0f/255 "
+                    "from the hermite render\n",
+                    c.refitted, c.error.meanAbs, c.error.psnr, c.error.maxAbs);
+    }
+    return 0;
+}
+
+}  // namespace gm::cli

@@ -1,0 +1,12 @@
+// `gradmesh info IN`: the canvas, and per mesh its grid, patches, holes and legacy pieces.
+#pragma once
+
+#include "cli_common.h"
+#include "formats/registry.h"
+
+namespace gm::cli {
+
+// Prints the figures of the mesh file a.positional[0], read through `registry`.
+int infoCommand(const Args& a, const FormatRegistry& registry);
+
+}  // namespace gm::cli
