@@ -1,5 +1,5 @@
 // The mesh script an SVG carries (formats/svg/script/mesh_polyfill.js) in the browsers users
-// open our files in: headless Chromium (WebGL by SwiftShader) and Firefox ESR draw the default
+// open our files in: headless Chromium and Firefox ESR draw the default
 // SVG of an object (the apple), of an object with holes (pic1) and of a whole image (HappyFish,
 // --segment), opened directly and inline in an HTML page, as `gradmesh render` draws it, with
 // no pixel of a mesh left uncovered and no paint in its holes or around it.
@@ -66,15 +66,10 @@ fs::path preparedSamples(const std::string& testCase, const std::vector<std::str
 }
 
 // The SVG as a document of its own on the background colour (a style on the root element).
-// The script there is asked to draw with WebGL even on SwiftShader ({noWebGL: false}), where it
-// would otherwise use its canvas 2D path, so that Chromium checks both: WebGL directly, the
-// 2D path inline (Firefox headless has no WebGL and uses the 2D path in both).
 std::string directPage(std::string svg) {
     const size_t root = svg.find("<svg");
     REQUIRE(root != std::string::npos);
     svg.insert(root + 4, " style=\"background:#ff00ff\"");
-    const size_t content = svg.find('>', root) + 1;
-    svg.insert(content, "<script>window.gradmeshMeshOptions={noWebGL:false}</script>");
     return svg;
 }
 

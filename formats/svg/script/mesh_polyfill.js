@@ -3,9 +3,9 @@
 // Every SVG gradmesh writes with meshes ends with this script, minified (docs/browsers.md). For
 // each shape painted with a meshgradient (fill="url(#id)" or style="fill:url(#id) ...") it
 // tessellates the mesh's patches into small triangles with per-vertex colour, draws them at the
-// device resolution of the shape's on-screen box (a software rasteriser into a 2D canvas, or
-// WebGL when asked), and paints the shape with the result as an <image> in a <pattern>: the
-// browser's own path anti-aliasing still gives the outline.
+// device resolution of the shape's on-screen box (its own rasteriser, into a 2D canvas), and
+// paints the shape with the result as an <image> in a <pattern>: the browser's own path
+// anti-aliasing still gives the outline.
 //
 // Geometry and colour follow the SVG 2 mesh definition as gradmesh reads it
 // (formats/svg/src/svg_reader.cpp) and renders it (meshcore/src/render*.cpp):
@@ -19,8 +19,8 @@
 //
 // Runs once per page however many SVGs carry it: the first copy defines window.gradmeshMeshes
 // ({redraw(), scan(), mode}); later copies only ask it to scan for shapes not drawn yet.
-// window.gradmeshMeshOptions, when set before, may ask for {noWebGL: false} (WebGL, else the
-// 2D path) and {timing: true} (the draw time on the console).
+// window.gradmeshMeshOptions, when set before, may ask for {timing: true} (the draw time on the
+// console).
 (() => {
   if (window.SVGMeshGradientElement) return;  // native meshes
   if (window.gradmeshMeshes) return window.gradmeshMeshes.scan();
@@ -28,7 +28,7 @@
   const {abs, ceil, floor, hypot, max, min, sqrt} = Math;
   const SVG_NS = 'http://www.w3.org/2000/svg', F64 = Float64Array;
   const create = (name, ns = 'http://www.w3.org/1999/xhtml') => document.createElementNS(ns, name);
-  // Largest canvas side and area drawn (device pixels; a side WebGL implementations take in
+  // Largest canvas side and area drawn (device pixels; what browsers' canvases take in
   // practice); larger boxes are drawn coarser.
   const MAX_SIDE = 4096, MAX_AREA = 1 << 24;
   // Subdivision: position error (device px) and colour error (0–1) of the linear triangles,
@@ -45,21 +45,18 @@
   const options = window.gradmeshMeshOptions || {};
   const records = [];  // one per painted shape: {meshShape, gradient, mesh, tile, tileImage, key}
   let patternCount = 0;
-  let gl;  // the shared WebGL context: undefined until tried, then {ctx, scaleAt} or null
-  // WebGL enums (the minifier cannot shorten their names).
-  const ARRAY_BUFFER = 34962, ELEMENT_ARRAY_BUFFER = 34963, STREAM_DRAW = 35040, VERTEX_SHADER = 35633;
-  const FRAGMENT_SHADER = 35632, LINK_STATUS = 35714, FLOAT = 5126, TRIANGLES = 4, UNSIGNED_INT = 5125;
-  const COLOR_BUFFER_BIT = 16384;
 
   // ---- Parsing ---------------------------------------------------------------------------
 
   const numbers = (text) => (text.match(/[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?/g) || []).map(Number);
-  const childrenNamed = (el, name) => [...el.children].filter((c) => c.localName == name);
-  const styleOrAttribute = (el, name) =>
-    (el.hasAttribute('style') && el.style.getPropertyValue(name)) || el.getAttribute(name);
+  // The value of the attribute `name` in the markup of an element's attributes, or ''.
+  const patterns = {};
+  const attribute = (markup, name) =>
+    ((patterns[name] ||= RegExp(`\\s${name}="([^"]*)`)).exec(markup) || [, ''])[1];
 
   // The meshgradient id a shape's fill names.
-  const paintedId = (shape) => (/url\(\s*['"]?[^#)]*#([^)'"\s]+)/.exec(styleOrAttribute(shape, 'fill')) || [])[1];
+  const paintedId = (shape) =>
+    (/url\(\s*['"]?[^#)]*#([^)'"\s]+)/.exec(shape.style.fill || shape.getAttribute('fill')) || [])[1];
 
   // The element with `id`, looked up in the shape's outermost <svg> first: a page that inlines
   // several gradmesh SVGs repeats their ids.
@@ -69,11 +66,12 @@
     return root.querySelector(`[id="${id}"]`) || document.getElementById(id);
   }
 
-  // An sRGB colour 0–1 from a stop: #rgb or #rrggbb, else whatever the browser makes of it.
-  function stopColour(stop) {
-    const text = styleOrAttribute(stop, 'stop-color') || '#000';
+  // An sRGB colour 0–1 from a stop's attributes (markup; the style's stop-color first): #rgb or
+  // #rrggbb, else whatever the browser makes of the stop, the index-th one in `source`.
+  function stopColour(stop, index, source) {
+    const text = (/stop-color:\s*([^;"]*)/.exec(stop) || [])[1] || attribute(stop, 'stop-color') || '#000';
     const hex = (/^\s*#([0-9a-f]{3}|[0-9a-f]{6})\b/i.exec(text) || [])[1];
-    const rgb = hex ? null : numbers(getComputedStyle(stop).stopColor);
+    const rgb = hex ? null : numbers(getComputedStyle(source.getElementsByTagName('stop')[index]).stopColor);
     return [0, 1, 2].map((k) => (rgb ? rgb[k] :
       parseInt(hex.length > 3 ? hex.substr(2 * k, 2) : hex[k] + hex[k], 16)) / 255);
   }
@@ -96,14 +94,26 @@
 
   const lerp = (p, q, f) => [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
 
-  // One stop's edge from `start`: [handle 1, handle 2, end]. A closing edge ends at the corner
-  // `end` already known, and may leave its end point out.
+  // One stop's edge from `start` (its attributes' markup): [handle 1, handle 2, end]. A closing
+  // edge ends at the corner `end` already known, and may leave its end point out.
   function parseEdge(stop, start, end) {
-    const path = stop.getAttribute('path').trim(), v = numbers(path), c = path[0], r = c == 'c' || c == 'l';
+    const path = attribute(stop, 'path').trim(), v = numbers(path), c = path[0], r = c == 'c' || c == 'l';
     const point = (k) => [v[2 * k] + (r && start[0]), v[2 * k + 1] + (r && start[1])];
     if (c == 'c' || c == 'C') return [point(0), point(1), v.length > 4 ? point(2) : end];
     if (v.length) end = point(0);
     return [lerp(start, end, 1 / 3), lerp(start, end, 2 / 3), end];
+  }
+
+  // The rows of the meshgradient `source`, read from its markup (serialised by the browser at
+  // once: far faster than visiting each element): per row its patches, per patch the markup of
+  // its attributes, then per stop the markup of its attributes and its index in `source`.
+  function meshRows(source) {
+    const rows = [];
+    let patch = [], index = 0;
+    for (const [, name, attributes] of source.outerHTML.matchAll(/<(meshrow|meshpatch|stop)\b([^>]*)/g))
+      name == 'stop' ? patch.push([attributes, index++]) :
+        name == 'meshrow' ? rows.push([]) : rows.at(-1)?.push(patch = [attributes]);
+    return rows;
   }
 
   // The meshgradient (its href chain included) as a grid of C×R patches: corners P and their
@@ -113,14 +123,14 @@
     const chain = [gradient];
     for (let g = gradient; (g = hrefTarget(g)) && !chain.includes(g);) chain.push(g);
     const attr = (name) => (chain.find((g) => g.hasAttribute(name)) || gradient).getAttribute(name);
-    const rows = childrenNamed(chain.find((g) => childrenNamed(g, 'meshrow').length) || gradient, 'meshrow');
-    const R = rows.length, C = R && childrenNamed(rows[0], 'meshpatch').length, W = C + 1;
+    const source = chain.find((g) => g.querySelector('meshrow')) || gradient, rows = meshRows(source);
+    const R = rows.length, C = R && rows[0].length, W = C + 1;
     const P = [[+attr('x') || 0, +attr('y') || 0]], H = [], V = [], colour = [], tensor = [];
-    rows.forEach((row, r) => childrenNamed(row, 'meshpatch').slice(0, C).forEach((patch, c) => {
-      const stops = childrenNamed(patch, 'stop'), tl = r * W + c, bl = tl + W;  // corner indices
+    rows.forEach((row, r) => row.slice(0, C).forEach((patch, c) => {
+      const stops = patch.slice(1), tl = r * W + c, bl = tl + W;  // corner indices
       const next = (start, end, corner) => {  // the next stop: its edge and its start's colour
-        const stop = stops.shift();
-        if (corner >= 0) colour[corner] = stopColour(stop);
+        const [stop, index] = stops.shift();
+        if (corner >= 0) colour[corner] = stopColour(stop, index, source);
         return parseEdge(stop, P[start], P[end]);
       };
       let e;
@@ -138,7 +148,7 @@
         e = next(bl, tl, bl);
         V[tl] = [e[1], e[0]];
       }
-      tensor[tl - r] = numbers(patch.getAttribute('tensor') || '');
+      tensor[tl - r] = numbers(attribute(patch[0], 'tensor'));
     }));
     return {C, R, P, H, V, colour, tensor, bicubic: attr('type') == 'bicubic',
             affine: parseTransform(attr('gradientTransform'))};
@@ -352,37 +362,6 @@
 
   // ---- Drawing -----------------------------------------------------------------------------
 
-  // The shared WebGL 2 context (one for every mesh on the page) with its program, or null; only
-  // when the page asks for it ({noWebGL: false}). Rasterising is a small part of the work,
-  // and a first WebGL context costs more than it saves: on SwiftShader (Chromium's WebGL without
-  // a GPU) creating it alone takes longer than the script's own rasteriser takes for a whole
-  // image, and the browser says no faster way whether its WebGL is software.
-  function webgl() {
-    if (gl !== undefined || (gl = null) || options.noWebGL !== false) return gl;
-    try {
-      const ctx = create('canvas').getContext('webgl2', {antialias: false}), program = ctx.createProgram();
-      [[VERTEX_SHADER, 'attribute vec2 p;attribute vec3 c;uniform vec2 z;varying vec3 v;' +
-         'void main(){v=c;gl_Position=vec4(p*z+vec2(-1,1),0,1);}'],
-       [FRAGMENT_SHADER, 'precision highp float;varying vec3 v;void main(){gl_FragColor=vec4(v,1.);}']
-      ].forEach(([type, source]) => {
-        const shader = ctx.createShader(type);
-        ctx.shaderSource(shader, source);
-        ctx.compileShader(shader);
-        ctx.attachShader(program, shader);
-      });
-      ['p', 'c'].map((name, k) => ctx.bindAttribLocation(program, k, name));  // positions, then colours
-      ctx.linkProgram(program);
-      if (ctx.getProgramParameter(program, LINK_STATUS)) {
-        ctx.useProgram(program);
-        ctx.bindBuffer(ELEMENT_ARRAY_BUFFER, ctx.createBuffer());
-        ctx.bindBuffer(ARRAY_BUFFER, ctx.createBuffer());
-        [0, 1].map((k) => ctx.enableVertexAttribArray(k) || ctx.vertexAttribPointer(k, k + 2, FLOAT, false, 20, 8 * k));
-        gl = {ctx, scaleAt: ctx.getUniformLocation(program, 'z')};
-      }
-    } catch {}  // gl stays null
-    return gl;
-  }
-
   // Draws the triangles into the RGBA pixels (w wide) in script (the canvas 2D fallback): every
   // pixel whose centre a triangle covers (edges included) gets the colour interpolated there.
   // The triangles lie within the pixels' rows (a write outside a typed array is ignored).
@@ -439,56 +418,17 @@
     return {record, m, x, y, w: ceil(b[2]) + 3 - x, h: ceil(b[3]) + 3 - y};
   }
 
-  // Draws the jobs one under the other on one canvas (WebGL) or one array of pixels (2D) as
-  // long as they fit in MAX_SIDE rows, read back at once; then each one's pixels are put on a
-  // canvas of its own and painted.
+  // Draws each job's triangles into pixels of its own, puts them on a canvas and paints the
+  // shape with it.
   function drawAll(jobs) {
-    let batch = [], height = 0, width = 1;
-    const flush = () => {
-      const pixels = new Uint8ClampedArray(4 * width * height), atlas = create('canvas').getContext('2d', {willReadFrequently: true});
-      if (!height) return;
-      atlas.canvas.width = width;
-      atlas.canvas.height = height;
-      const ctx = webgl()?.ctx;
-      if (ctx) {
-        ctx.canvas.width = width;
-        ctx.canvas.height = height;
-        ctx.viewport(0, 0, width, height);
-        ctx.clear(COLOR_BUFFER_BIT);
-        ctx.uniform2f(gl.scaleAt, 2 / width, -2 / height);  // device px to clip space, y up
-      }
-      for (const j of batch) {
-        const triangles = tessellate(j.record.mesh,
-          multiply([1, 0, 0, 1, -j.x, j.ay - j.y], multiply(j.m, j.record.mesh.affine)));
-        if (!ctx) drawSoftware(triangles, pixels, width);
-        else {
-          ctx.bufferData(ELEMENT_ARRAY_BUFFER, triangles.indices, STREAM_DRAW);
-          ctx.bufferData(ARRAY_BUFFER, triangles.xy, STREAM_DRAW);
-          ctx.drawElements(TRIANGLES, triangles.indices.length, UNSIGNED_INT, 0);
-        }
-      }
-      // Read back through a 2D canvas (Chromium warns on the console of a WebGL readPixels), in
-      // the same task, before the drawing buffer is cleared.
-      ctx ? atlas.drawImage(ctx.canvas, 0, 0) : atlas.putImageData(new ImageData(pixels, width), 0, 0);
-      for (const j of batch) {
-        const {w, h} = j, image = atlas.getImageData(0, j.ay, w, h), canvas = create('canvas');
-        canvas.width = w;
-        canvas.height = h;
-        canvas.getContext('2d').putImageData(image, 0, 0);
-        paint(j, canvas.toDataURL());
-      }
-      batch = [];
-      height = 0;
-      width = 1;
-    };
     for (const j of jobs) {
-      if (height + j.h > MAX_SIDE) flush();
-      j.ay = height;
-      height += j.h;
-      width = max(width, j.w);
-      batch.push(j);
+      const {w, h, record: {mesh}} = j, pixels = new Uint8ClampedArray(4 * w * h), canvas = create('canvas');
+      drawSoftware(tessellate(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine))), pixels, w);
+      canvas.width = w;
+      canvas.height = h;
+      canvas.getContext('2d').putImageData(new ImageData(pixels, w), 0, 0);
+      paint(j, canvas.toDataURL());
     }
-    flush();
   }
 
   const drawRecords = (list) => drawAll(list.map(job).filter((j) => j));
@@ -531,13 +471,13 @@
     }
     drawRecords(found);
     if (options.timing && found.length)
-      console.log(`gradmesh ${found.length} meshes ${performance.now() - started} ms ${gl ? 'webgl' : '2d'}`);
+      console.log(`gradmesh ${found.length} meshes ${performance.now() - started} ms`);
   }
 
   // Draws again every mesh whose transform to the screen has changed (zoom, resize).
   const redraw = () => drawRecords(records);
 
-  window.gradmeshMeshes = {scan, redraw, get mode() { return webgl() ? 'webgl' : '2d'; }};
+  window.gradmeshMeshes = {scan, redraw, mode: '2d'};
   let pending = 0;
   addEventListener('resize', () => pending || (pending = requestAnimationFrame(() => redraw(pending = 0))));
   if (document.readyState == 'loading') document.addEventListener('DOMContentLoaded', scan);
