@@ -1,8 +1,8 @@
 // The mesh script an SVG carries (formats/svg/script/mesh_polyfill.js) in the browsers users
-// open our files in: headless Chromium (WebGL by SwiftShader) and Firefox ESR draw the default
+// open our files in: headless Chromium and Firefox ESR draw the default
 // SVG of an object (the apple), of an object with holes (pic1) and of a whole image (HappyFish,
 // --segment), opened directly and inline in an HTML page, as `gradmesh render` draws it, with
-// no pixel of a mesh left uncovered.
+// no pixel of a mesh left uncovered and no paint in its holes or around it.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -66,15 +66,10 @@ fs::path preparedSamples(const std::string& testCase, const std::vector<std::str
 }
 
 // The SVG as a document of its own on the background colour (a style on the root element).
-// The script there is asked to draw with WebGL even on SwiftShader ({noWebGL: false}), where it
-// would otherwise use its canvas 2D path, so that Chromium checks both: WebGL directly, the
-// 2D path inline (Firefox headless has no WebGL and uses the 2D path in both).
 std::string directPage(std::string svg) {
     const size_t root = svg.find("<svg");
     REQUIRE(root != std::string::npos);
     svg.insert(root + 4, " style=\"background:#ff00ff\"");
-    const size_t content = svg.find('>', root) + 1;
-    svg.insert(content, "<script>window.gradmeshMeshOptions={noWebGL:false}</script>");
     return svg;
 }
 
@@ -105,7 +100,30 @@ gm::RgbaImage rows(const gm::RgbaImage& image, int y0, int width, int height) {
 struct Coverage {
     size_t uncovered = 0;    // interior pixels showing mostly background
     double worst = 0;        // the largest background fraction seen in the interior
+    size_t painted = 0;      // pixels of a hole or of the outside that show paint
+    double worstPaint = 0;   // the largest difference from the background seen there
 };
+
+// Pixels painted where `ours` leaves a hole or the outside: pixels with no paint in `ours` 1 px
+// around (so that anti-aliasing along the outlines is left out) must show the background.
+void checkEmpty(const gm::RgbaImage& ours, const gm::RgbaImage& shot, Coverage& c) {
+    const int W = ours.width, H = ours.height, reach = 1;
+    auto empty = [&](int x, int y) {
+        return x < 0 || y < 0 || x >= W || y >= H || ours.at(x, y)[3] <= 0.001f;
+    };
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            bool outside = true;
+            for (int dy = -reach; dy <= reach; ++dy)
+                for (int dx = -reach; dx <= reach; ++dx) outside = outside && empty(x + dx, y + dy);
+            if (!outside) continue;
+            double difference = 0;
+            for (int k = 0; k < 3; ++k)
+                difference = std::max(difference, double(std::fabs(shot.at(x, y)[k] - kBackground[k])));
+            c.worstPaint = std::max(c.worstPaint, difference);
+            if (difference > 0.1) ++c.painted;
+        }
+}
 
 // How much of the background shows through each pixel of `ours`' interior (opaque, eroded
 // 1 px) in the screenshot: the fraction f with shot = (1−f)·ours + f·background, estimated
@@ -134,6 +152,7 @@ Coverage coverage(const gm::RgbaImage& ours, const gm::RgbaImage& shot) {
             c.worst = std::max(c.worst, f);
             if (f > 0.4) ++c.uncovered;
         }
+    checkEmpty(ours, shot, c);
     return c;
 }
 
@@ -171,10 +190,12 @@ gm::RgbaImage screenshot(Browser b, const fs::path& page, int width, int height,
 void checkDrawn(Browser b, const std::string& where, const Drawn& d) {
     WARN(browserName(b) << ", " << where << ": E " << d.diff.mean << ", max " << d.diff.max << " over "
                         << d.diff.count << " px; uncovered " << d.cover.uncovered
-                        << " px (largest background share " << d.cover.worst << ")");
+                        << " px (largest background share " << d.cover.worst << "); painted outside "
+                        << d.cover.painted << " px (largest difference " << d.cover.worstPaint << ")");
     CHECK(d.diff.count > 1000);
     CHECK(d.diff.mean <= 1.5);
     CHECK(d.cover.uncovered == 0);
+    CHECK(d.cover.painted == 0);
 }
 
 void checkBrowser(Browser b) {

@@ -17,7 +17,7 @@ if(DEFINED ENV{NODE_PATH} AND NOT "$ENV{NODE_PATH}" STREQUAL "")
 endif()
 # The script's own object properties (not DOM or API names) may be renamed too: they are listed
 # here, and must not be names of properties the script reads from the browser.
-set(own_properties "record|colours|bicubic|tensor|transform|colour|shape|gradient|pattern|image|key|xy|rgb|indices|mesh|gradmeshRecord|gradmeshMesh|ctx|col|size")
+set(own_properties "record|colours|bicubic|tensor|affine|colour|meshShape|gradient|tile|tileImage|key|xy|rgb|indices|mesh|gradmeshRecord|gradmeshMesh|ctx|col|scaleAt|ay")
 execute_process(
   COMMAND ${CMAKE_COMMAND} -E env NODE_PATH=${node_path}
           ${TERSER} ${INPUT} --ecma 2020 --compress passes=3 --mangle

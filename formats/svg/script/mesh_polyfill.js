@@ -3,9 +3,9 @@
 // Every SVG gradmesh writes with meshes ends with this script, minified (docs/browsers.md). For
 // each shape painted with a meshgradient (fill="url(#id)" or style="fill:url(#id) ...") it
 // tessellates the mesh's patches into small triangles with per-vertex colour, draws them at the
-// device resolution of the shape's on-screen box (WebGL, else a software rasteriser into a 2D
-// canvas), and paints the shape with the result as an <image> in a <pattern>: the browser's own
-// path anti-aliasing still gives the outline.
+// device resolution of the shape's on-screen box (its own rasteriser, into a 2D canvas), and
+// paints the shape with the result as an <image> in a <pattern>: the browser's own path
+// anti-aliasing still gives the outline.
 //
 // Geometry and colour follow the SVG 2 mesh definition as gradmesh reads it
 // (formats/svg/src/svg_reader.cpp) and renders it (meshcore/src/render*.cpp):
@@ -19,8 +19,8 @@
 //
 // Runs once per page however many SVGs carry it: the first copy defines window.gradmeshMeshes
 // ({redraw(), scan(), mode}); later copies only ask it to scan for shapes not drawn yet.
-// window.gradmeshMeshOptions, when set before, may ask for {noWebGL: true} (the 2D path) and
-// {timing: true} (the draw time on the console).
+// window.gradmeshMeshOptions, when set before, may ask for {timing: true} (the draw time on the
+// console).
 (() => {
   if (window.SVGMeshGradientElement) return;  // native meshes
   if (window.gradmeshMeshes) return window.gradmeshMeshes.scan();
@@ -28,35 +28,35 @@
   const {abs, ceil, floor, hypot, max, min, sqrt} = Math;
   const SVG_NS = 'http://www.w3.org/2000/svg', F64 = Float64Array;
   const create = (name, ns = 'http://www.w3.org/1999/xhtml') => document.createElementNS(ns, name);
-  // Largest canvas side and area drawn (device pixels; a side WebGL implementations take in
+  // Largest canvas side and area drawn (device pixels; what browsers' canvases take in
   // practice); larger boxes are drawn coarser.
   const MAX_SIDE = 4096, MAX_AREA = 1 << 24;
   // Subdivision: position error (device px) and colour error (0–1) of the linear triangles,
   // the smallest cell (device px) the colour alone asks for, and the most cells per side.
   const POSITION_TOLERANCE = 0.2, COLOUR_TOLERANCE = 0.6 / 255, SMALLEST_CELL = 1.5;
   const MAX_CELLS = 64;
-  // Pixels the drawn mesh is grown by, so that pixels on its border whose centre no triangle
-  // covers are not transparent inside the anti-aliased path.
-  const DILATION = 2;
+  // Half the width (device px) of the skirt around each patch: a strip along its border,
+  // drawn before the patches, so that pixels on a mesh's border whose centre no triangle
+  // covers are not transparent inside the anti-aliased path, nor those whose centre falls
+  // between two differently subdivided patches. Pixels further out stay transparent: holes
+  // and the seam bands' ends there show nothing.
+  const SKIRT = 0.75;
 
   const options = window.gradmeshMeshOptions || {};
-  const records = [];  // one per painted shape: {shape, gradient, mesh, pattern, image, key}
+  const records = [];  // one per painted shape: {meshShape, gradient, mesh, tile, tileImage, key}
   let patternCount = 0;
-  let gl;  // the shared WebGL context: undefined until tried, then {ctx, size} or null
-  // WebGL enums (the minifier cannot shorten their names).
-  const ARRAY_BUFFER = 34962, ELEMENT_ARRAY_BUFFER = 34963, STREAM_DRAW = 35040, VERTEX_SHADER = 35633;
-  const FRAGMENT_SHADER = 35632, LINK_STATUS = 35714, FLOAT = 5126, TRIANGLES = 4, UNSIGNED_INT = 5125;
-  const COLOR_BUFFER_BIT = 16384;
 
   // ---- Parsing ---------------------------------------------------------------------------
 
   const numbers = (text) => (text.match(/[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?/g) || []).map(Number);
-  const childrenNamed = (el, name) => [...el.children].filter((c) => c.localName == name);
-  const styleOrAttribute = (el, name) =>
-    (el.hasAttribute('style') && el.style.getPropertyValue(name)) || el.getAttribute(name);
+  // The value of the attribute `name` in the markup of an element's attributes, or ''.
+  const patterns = {};
+  const attribute = (markup, name) =>
+    ((patterns[name] ||= RegExp(`\\s${name}="([^"]*)`)).exec(markup) || [, ''])[1];
 
   // The meshgradient id a shape's fill names.
-  const paintedId = (shape) => (/url\(\s*['"]?[^#)]*#([^)'"\s]+)/.exec(styleOrAttribute(shape, 'fill')) || [])[1];
+  const paintedId = (shape) =>
+    (/url\(\s*['"]?[^#)]*#([^)'"\s]+)/.exec(shape.style.fill || shape.getAttribute('fill')) || [])[1];
 
   // The element with `id`, looked up in the shape's outermost <svg> first: a page that inlines
   // several gradmesh SVGs repeats their ids.
@@ -66,11 +66,12 @@
     return root.querySelector(`[id="${id}"]`) || document.getElementById(id);
   }
 
-  // An sRGB colour 0–1 from a stop: #rgb or #rrggbb, else whatever the browser makes of it.
-  function stopColour(stop) {
-    const text = styleOrAttribute(stop, 'stop-color') || '#000';
+  // An sRGB colour 0–1 from a stop's attributes (markup; the style's stop-color first): #rgb or
+  // #rrggbb, else whatever the browser makes of the stop, the index-th one in `source`.
+  function stopColour(stop, index, source) {
+    const text = (/stop-color:\s*([^;"]*)/.exec(stop) || [])[1] || attribute(stop, 'stop-color') || '#000';
     const hex = (/^\s*#([0-9a-f]{3}|[0-9a-f]{6})\b/i.exec(text) || [])[1];
-    const rgb = hex ? null : numbers(getComputedStyle(stop).stopColor);
+    const rgb = hex ? null : numbers(getComputedStyle(source.getElementsByTagName('stop')[index]).stopColor);
     return [0, 1, 2].map((k) => (rgb ? rgb[k] :
       parseInt(hex.length > 3 ? hex.substr(2 * k, 2) : hex[k] + hex[k], 16)) / 255);
   }
@@ -93,14 +94,26 @@
 
   const lerp = (p, q, f) => [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
 
-  // One stop's edge from `start`: [handle 1, handle 2, end]. A closing edge ends at the corner
-  // `end` already known, and may leave its end point out.
+  // One stop's edge from `start` (its attributes' markup): [handle 1, handle 2, end]. A closing
+  // edge ends at the corner `end` already known, and may leave its end point out.
   function parseEdge(stop, start, end) {
-    const path = stop.getAttribute('path').trim(), v = numbers(path), c = path[0], r = c == 'c' || c == 'l';
+    const path = attribute(stop, 'path').trim(), v = numbers(path), c = path[0], r = c == 'c' || c == 'l';
     const point = (k) => [v[2 * k] + (r && start[0]), v[2 * k + 1] + (r && start[1])];
     if (c == 'c' || c == 'C') return [point(0), point(1), v.length > 4 ? point(2) : end];
     if (v.length) end = point(0);
     return [lerp(start, end, 1 / 3), lerp(start, end, 2 / 3), end];
+  }
+
+  // The rows of the meshgradient `source`, read from its markup (serialised by the browser at
+  // once: far faster than visiting each element): per row its patches, per patch the markup of
+  // its attributes, then per stop the markup of its attributes and its index in `source`.
+  function meshRows(source) {
+    const rows = [];
+    let patch = [], index = 0;
+    for (const [, name, attributes] of source.outerHTML.matchAll(/<(meshrow|meshpatch|stop)\b([^>]*)/g))
+      name == 'stop' ? patch.push([attributes, index++]) :
+        name == 'meshrow' ? rows.push([]) : rows.at(-1)?.push(patch = [attributes]);
+    return rows;
   }
 
   // The meshgradient (its href chain included) as a grid of C×R patches: corners P and their
@@ -110,14 +123,14 @@
     const chain = [gradient];
     for (let g = gradient; (g = hrefTarget(g)) && !chain.includes(g);) chain.push(g);
     const attr = (name) => (chain.find((g) => g.hasAttribute(name)) || gradient).getAttribute(name);
-    const rows = childrenNamed(chain.find((g) => childrenNamed(g, 'meshrow').length) || gradient, 'meshrow');
-    const R = rows.length, C = R && childrenNamed(rows[0], 'meshpatch').length, W = C + 1;
+    const source = chain.find((g) => g.querySelector('meshrow')) || gradient, rows = meshRows(source);
+    const R = rows.length, C = R && rows[0].length, W = C + 1;
     const P = [[+attr('x') || 0, +attr('y') || 0]], H = [], V = [], colour = [], tensor = [];
-    rows.forEach((row, r) => childrenNamed(row, 'meshpatch').slice(0, C).forEach((patch, c) => {
-      const stops = childrenNamed(patch, 'stop'), tl = r * W + c, bl = tl + W;  // corner indices
+    rows.forEach((row, r) => row.slice(0, C).forEach((patch, c) => {
+      const stops = patch.slice(1), tl = r * W + c, bl = tl + W;  // corner indices
       const next = (start, end, corner) => {  // the next stop: its edge and its start's colour
-        const stop = stops.shift();
-        if (corner >= 0) colour[corner] = stopColour(stop);
+        const [stop, index] = stops.shift();
+        if (corner >= 0) colour[corner] = stopColour(stop, index, source);
         return parseEdge(stop, P[start], P[end]);
       };
       let e;
@@ -135,10 +148,10 @@
         e = next(bl, tl, bl);
         V[tl] = [e[1], e[0]];
       }
-      tensor[tl - r] = numbers(patch.getAttribute('tensor') || '');
+      tensor[tl - r] = numbers(attribute(patch[0], 'tensor'));
     }));
     return {C, R, P, H, V, colour, tensor, bicubic: attr('type') == 'bicubic',
-            transform: parseTransform(attr('gradientTransform'))};
+            affine: parseTransform(attr('gradientTransform'))};
   }
 
   function hrefTarget(el) {
@@ -255,8 +268,11 @@
   }
 
   // For u = a / n (a = 0 … n), 8 numbers from 8 a: the cubic Bernstein basis and the colour's
-  // basis (bicubic: Hermite for two values and two slopes; bilinear: 1 − u, u).
-  function basis(n, bicubic) {
+  // basis (bicubic: Hermite for two values and two slopes; bilinear: 1 − u, u). Made once per
+  // n and kind.
+  const bases = [];
+  const basis = (n, bicubic) => bases[2 * n + bicubic] ||= basisTable(n, bicubic);
+  function basisTable(n, bicubic) {
     const table = [];
     for (let a = 0, u = 0, v = 1; a <= n; v = 1 - (u = ++a / n))
       table.push(v * v * v, 3 * u * v * v, 3 * u * u * v, u * u * u,
@@ -265,23 +281,25 @@
   }
 
   // The meshgradient as triangles through the affine transform m (device pixels): vertices
-  // (x, y and the colour r, g, b 0–1, 5 numbers each) and vertex indices, each patch a grid of cells of its own. Where two
-  // neighbours are cut differently, the chords of their shared edge part by at most twice the
-  // position tolerance; the dilation fills any pixel whose centre falls between them.
+  // (x, y and the colour r, g, b 0–1, 5 numbers each) and vertex indices, each patch a grid of
+  // cells of its own. Where two neighbours are cut differently, the chords of their shared edge
+  // part by at most twice the position tolerance; their skirts cover any pixel centre between
+  // them. The skirts' triangles come first, so the patches' own are drawn over them.
   function tessellate({Q, colours, bicubic}, m) {
     const count = Q.length / 32, q = new F64(Q.length), cuts = new Uint8Array(2 * count);
     const points = new F64(8), colour = new F64(12);
-    let vertices = 0, cells = 0, v = 0, n = 0;
+    let cells = 0, v = 0, n, skirt = 0;
     for (let i = 0; i < Q.length; i += 2) {
       q[i] = m[0] * Q[i] + m[2] * Q[i + 1] + m[4];
       q[i + 1] = m[1] * Q[i] + m[3] * Q[i + 1] + m[5];
     }
     for (let k = 0; k < count; k++) {
       const ns = cuts[2 * k] = cellsFor(bicubic, q, colours, k, 0), nt = cuts[2 * k + 1] = cellsFor(bicubic, q, colours, k, 1);
-      vertices += (ns + 1) * (nt + 1);
-      cells += ns * nt;
+      // At least the grid's vertices and two per border vertex, and its cells and a quad per
+      // border edge (the triangles of vertex 0 left over are empty).
+      cells += (ns + 5) * (nt + 5);
     }
-    const xy = new Float32Array(5 * vertices), indices = new Uint32Array(6 * cells);
+    const xy = new Float32Array(5 * cells), indices = new Uint32Array(n = 6 * cells);
     for (let k = 0; k < count; k++) {
       const ns = cuts[2 * k], nt = cuts[2 * k + 1], S = basis(ns, bicubic), T = basis(nt, bicubic), o = 32 * k;
       for (let b = 0; b <= nt; b++) {
@@ -305,51 +323,44 @@
           for (let ch = 0; ch < 3; ch++)
             xy[5 * v + 2 + ch] = S[s + 4] * colour[ch] + S[s + 5] * colour[6 + ch] + S[s + 6] * colour[3 + ch] +
               S[s + 7] * colour[9 + ch];
-          if (a < ns && b < nt) {  // the cell's two triangles
+          if (a < ns && b < nt) {  // the cell's two triangles, from the end of indices
+            n -= 6;
             indices[n] = indices[n + 3] = v;
             indices[n + 1] = v + 1;
             indices[n + 2] = indices[n + 4] = v + ns + 2;
             indices[n + 5] = v + ns + 1;
-            n += 6;
           }
         }
       }
+      skirt = addSkirt(xy, indices, v - (ns + 1) * (nt + 1), ns, v, skirt);
+      v += 4 * (ns + nt);
     }
     return {xy, indices};
   }
 
-  // ---- Drawing -----------------------------------------------------------------------------
-
-  // The shared WebGL 2 context (one for every mesh on the page) with its program, or null. Not
-  // on SwiftShader (Chromium's WebGL without a GPU), which draws the triangles several times
-  // slower than the script's own rasteriser.
-  function webgl() {
-    if (gl !== undefined || (gl = null) || options.noWebGL) return gl;
-    try {
-      const ctx = create('canvas').getContext('webgl2', {antialias: false}), program = ctx.createProgram();
-      if (options.noWebGL !== false && ctx.getExtension('WEBGL_debug_renderer_info') &&
-          /SwiftShader/.test(ctx.getParameter(37446))) return gl;  // UNMASKED_RENDERER_WEBGL
-      [[VERTEX_SHADER, 'attribute vec2 p;attribute vec3 c;uniform vec2 z;varying vec3 v;' +
-         'void main(){v=c;gl_Position=vec4(p*z+vec2(-1,1),0,1);}'],
-       [FRAGMENT_SHADER, 'precision highp float;varying vec3 v;void main(){gl_FragColor=vec4(v,1.);}']
-      ].forEach(([type, source]) => {
-        const shader = ctx.createShader(type);
-        ctx.shaderSource(shader, source);
-        ctx.compileShader(shader);
-        ctx.attachShader(program, shader);
-      });
-      ['p', 'c'].map((name, k) => ctx.bindAttribLocation(program, k, name));  // positions, then colours
-      ctx.linkProgram(program);
-      if (ctx.getProgramParameter(program, LINK_STATUS)) {
-        ctx.useProgram(program);
-        ctx.bindBuffer(ELEMENT_ARRAY_BUFFER, ctx.createBuffer());
-        ctx.bindBuffer(ARRAY_BUFFER, ctx.createBuffer());
-        [0, 1].map((k) => ctx.enableVertexAttribArray(k) || ctx.vertexAttribPointer(k, k + 2, FLOAT, false, 20, 8 * k));
-        gl = {ctx, size: ctx.getUniformLocation(program, 'z')};
+  // The skirt of the patch whose (ns + 1)-wide grid of vertices starts at `grid`: its border
+  // vertices each moved SKIRT px both ways along the border's normal, keeping their colour, as
+  // vertices from v on, and quads between them as indices from `at` on; returns their end.
+  function addSkirt(xy, indices, grid, ns, v, at) {
+    const border = [], W = ns + 1, nt = (v - grid) / W - 1;
+    for (let side = 0, a = 0, b = 0; side < 4; side++)  // along s, then t, then back
+      for (let i = side % 2 ? nt : ns; i--; side % 2 ? b += 2 - side : a += 1 - side) border.push(grid + b * W + a);
+    border.forEach((p, i) => {
+      const next = 5 * border[(i + 1) % border.length], previous = 5 * border.at(i - 1);
+      const dx = xy[next] - xy[previous], dy = xy[next + 1] - xy[previous + 1], f = SKIRT / (hypot(dx, dy) || 1e9);
+      for (let side = -1; side < 2; side += 2, v++) {
+        xy.copyWithin(5 * v, 5 * p, 5 * p + 5);
+        xy[5 * v] -= side * f * dy;
+        xy[5 * v + 1] += side * f * dx;
       }
-    } catch {}  // gl stays null
-    return gl;
+      const here = v - 2, there = here + 2 * ((i + 1) % border.length - i);  // the next vertex's pair
+      indices.set([here, here + 1, there, here + 1, there + 1, there], at);
+      at += 6;
+    });
+    return at;
   }
+
+  // ---- Drawing -----------------------------------------------------------------------------
 
   // Draws the triangles into the RGBA pixels (w wide) in script (the canvas 2D fallback): every
   // pixel whose centre a triangle covers (edges included) gets the colour interpolated there.
@@ -373,23 +384,6 @@
     }
   }
 
-  // Grows the drawn pixels by DILATION pixels: a transparent pixel next to drawn ones takes
-  // the colour of the first of them (sides before corners).
-  const NEAR = [-1, 0, 1, 0, 0, -1, 0, 1, -1, -1, 1, -1, -1, 1, 1, 1];
-  function dilate(pixels, w, h) {
-    const rgba = new Uint32Array(pixels.buffer);  // one pixel per element, 0 where transparent
-    for (let step = 0; step < DILATION; step++) {
-      const drawn = rgba.slice();
-      for (let y = 0, k = 0; y < h; y++)
-        for (let x = 0; x < w; x++, k++)
-          for (let n = 0; !drawn[k] && n < 8; n++) {
-            // Neighbours left, right, up, down, then the corners.
-            const X = x + NEAR[2 * n], Y = y + NEAR[2 * n + 1];
-            if (X >>> 0 < w && Y >>> 0 < h && (rgba[k] = drawn[Y * w + X])) break;  // 0 ≤ X < w, 0 ≤ Y < h
-          }
-    }
-  }
-
   // ---- Shapes ------------------------------------------------------------------------------
 
   // The box [x0, y0, x1, y1] of the points [x, y, x, y, …] through m.
@@ -408,73 +402,33 @@
   // What drawing one shape's mesh at the resolution it is shown at takes: its transform to
   // device pixels m and the device box [x, y, w, h] drawn; nothing if that has not changed.
   function job(record) {
-    const ctm = record.shape.getScreenCTM(), ratio = devicePixelRatio;
+    const ctm = record.meshShape.getScreenCTM(), ratio = devicePixelRatio;
     if (!ctm) return;  // not rendered
     let m = [...'abcdef'].map((k) => ctm[k] * ratio);
     if (record.key == (record.key = m.join())) return;
     const mesh = record.mesh;
-    let b = box(mesh.Q, multiply(m, mesh.transform));
-    const side = MAX_SIDE - 8;  // room for the dilation and the margins
+    let b = box(mesh.Q, multiply(m, mesh.affine));
+    const side = MAX_SIDE - 8;  // room for the skirts and the margins
     const shrink = min(1, side / (b[2] - b[0]), side / (b[3] - b[1]),
                             sqrt(MAX_AREA / (b[2] - b[0] + 1) / (b[3] - b[1] + 1)));
     if (!(shrink > 0)) return;
     m = m.map((v) => v * shrink);
     b = b.map((v) => v * shrink);
-    const x = floor(b[0]) - DILATION - 1, y = floor(b[1]) - DILATION - 1;
-    return {record, m, x, y, w: ceil(b[2]) + DILATION + 1 - x, h: ceil(b[3]) + DILATION + 1 - y};
+    const x = floor(b[0]) - 3, y = floor(b[1]) - 3;  // room for the skirts
+    return {record, m, x, y, w: ceil(b[2]) + 3 - x, h: ceil(b[3]) + 3 - y};
   }
 
-  // Draws the jobs one under the other on one canvas (WebGL) or one array of pixels (2D) as
-  // long as they fit in MAX_SIDE rows, read back at once; then each one's pixels are grown,
-  // put on a canvas of its own and painted.
+  // Draws each job's triangles into pixels of its own, puts them on a canvas and paints the
+  // shape with it.
   function drawAll(jobs) {
-    let batch = [], height = 0, width = 1;
-    const flush = () => {
-      const pixels = new Uint8ClampedArray(4 * width * height), atlas = create('canvas').getContext('2d', {willReadFrequently: true});
-      if (!height) return;
-      atlas.canvas.width = width;
-      atlas.canvas.height = height;
-      const ctx = webgl()?.ctx;
-      if (ctx) {
-        ctx.canvas.width = width;
-        ctx.canvas.height = height;
-        ctx.viewport(0, 0, width, height);
-        ctx.clear(COLOR_BUFFER_BIT);
-        ctx.uniform2f(gl.size, 2 / width, -2 / height);  // device px to clip space, y up
-      }
-      for (const j of batch) {
-        const triangles = tessellate(j.record.mesh,
-          multiply([1, 0, 0, 1, -j.x, j.ay - j.y], multiply(j.m, j.record.mesh.transform)));
-        if (!ctx) drawSoftware(triangles, pixels, width);
-        else {
-          ctx.bufferData(ELEMENT_ARRAY_BUFFER, triangles.indices, STREAM_DRAW);
-          ctx.bufferData(ARRAY_BUFFER, triangles.xy, STREAM_DRAW);
-          ctx.drawElements(TRIANGLES, triangles.indices.length, UNSIGNED_INT, 0);
-        }
-      }
-      // Read back through a 2D canvas (Chromium warns on the console of a WebGL readPixels), in
-      // the same task, before the drawing buffer is cleared.
-      ctx ? atlas.drawImage(ctx.canvas, 0, 0) : atlas.putImageData(new ImageData(pixels, width), 0, 0);
-      for (const j of batch) {
-        const {w, h} = j, image = atlas.getImageData(0, j.ay, w, h), canvas = create('canvas');
-        dilate(image.data, w, h);
-        canvas.width = w;
-        canvas.height = h;
-        canvas.getContext('2d').putImageData(image, 0, 0);
-        paint(j, canvas.toDataURL());
-      }
-      batch = [];
-      height = 0;
-      width = 1;
-    };
     for (const j of jobs) {
-      if (height + j.h > MAX_SIDE) flush();
-      j.ay = height;
-      height += j.h;
-      width = max(width, j.w);
-      batch.push(j);
+      const {w, h, record: {mesh}} = j, pixels = new Uint8ClampedArray(4 * w * h), canvas = create('canvas');
+      drawSoftware(tessellate(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine))), pixels, w);
+      canvas.width = w;
+      canvas.height = h;
+      canvas.getContext('2d').putImageData(new ImageData(pixels, w), 0, 0);
+      paint(j, canvas.toDataURL());
     }
-    flush();
   }
 
   const drawRecords = (list) => drawAll(list.map(job).filter((j) => j));
@@ -483,20 +437,20 @@
   // the shape's user space) whose one tile holds the shape's whole box, so that no second copy
   // of the image shows inside the shape.
   function paint({record, m, x, y, w, h}, url) {
-    if (!record.pattern) {
-      record.pattern = create('pattern', SVG_NS);
-      record.image = record.pattern.appendChild(create('image', SVG_NS));
-      record.pattern.id = 'gradmesh-' + ++patternCount;
-      record.gradient.before(record.pattern);
-      record.shape.style.fill = `url(#${record.pattern.id})`;
+    if (!record.tile) {
+      record.tile = create('pattern', SVG_NS);
+      record.tileImage = record.tile.appendChild(create('image', SVG_NS));
+      record.tile.id = 'gradmesh-' + ++patternCount;
+      record.gradient.before(record.tile);
+      record.meshShape.style.fill = `url(#${record.tile.id})`;
     }
-    const {x: left, y: top, width, height} = record.shape.getBBox();
+    const {x: left, y: top, width, height} = record.meshShape.getBBox();
     const tile = box([left, top, left + width, top + height, left, top + height, left + width, top], m);
     const tx = floor(tile[0]) - 2, ty = floor(tile[1]) - 2;
     const set = (el, values) => Object.entries(values).forEach(([name, value]) => el.setAttribute(name, value));
-    set(record.pattern, {patternUnits: 'userSpaceOnUse', patternTransform: new DOMMatrix(m).inverse(), x: tx, y: ty,
+    set(record.tile, {patternUnits: 'userSpaceOnUse', patternTransform: new DOMMatrix(m).inverse(), x: tx, y: ty,
                          width: ceil(tile[2]) + 2 - tx, height: ceil(tile[3]) + 2 - ty});
-    set(record.image, {x: x - tx, y: y - ty, width: w, height: h, href: url});  // tile-relative
+    set(record.tileImage, {x: x - tx, y: y - ty, width: w, height: h, href: url});  // tile-relative
   }
 
   // Finds the shapes painted with a meshgradient that are not drawn yet, and draws them.
@@ -512,18 +466,18 @@
         patchColours(mesh);
         controlNets(mesh);
       }
-      records.push(shape.gradmeshRecord = {shape, gradient, mesh});
+      records.push(shape.gradmeshRecord = {meshShape: shape, gradient, mesh});
       found.push(shape.gradmeshRecord);
     }
     drawRecords(found);
     if (options.timing && found.length)
-      console.log(`gradmesh ${found.length} meshes ${performance.now() - started} ms ${gl ? 'webgl' : '2d'}`);
+      console.log(`gradmesh ${found.length} meshes ${performance.now() - started} ms`);
   }
 
   // Draws again every mesh whose transform to the screen has changed (zoom, resize).
   const redraw = () => drawRecords(records);
 
-  window.gradmeshMeshes = {scan, redraw, get mode() { return webgl() ? 'webgl' : '2d'; }};
+  window.gradmeshMeshes = {scan, redraw, mode: '2d'};
   let pending = 0;
   addEventListener('resize', () => pending || (pending = requestAnimationFrame(() => redraw(pending = 0))));
   if (document.readyState == 'loading') document.addEventListener('DOMContentLoaded', scan);
