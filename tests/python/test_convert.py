@@ -14,9 +14,9 @@ def cli_file(tmp_path, name, *args):
     return out.read_bytes()
 
 
-@pytest.fixture
-def apple_doc(apple):
-    image, mask = apple
+@pytest.fixture(scope="module")
+def apple_doc():
+    image, mask = SAMPLES / "apple.jpg", SAMPLES / "apple_mask.png"
     return gradmesh.convert(image, mask=mask, **FAST)
 
 

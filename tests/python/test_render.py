@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 import gradmesh
-from conftest import FAST, run_cli
+from conftest import FAST, SAMPLES, run_cli
 
 
-@pytest.fixture
-def apple_doc(apple):
-    image, mask = apple
+@pytest.fixture(scope="module")
+def apple_doc():
+    image, mask = SAMPLES / "apple.jpg", SAMPLES / "apple_mask.png"
     return gradmesh.convert(image, mask=mask, **FAST)
 
 
