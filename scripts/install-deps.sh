@@ -9,6 +9,7 @@ packages=(
   catch2 libzstd-dev zlib1g-dev libopencv-dev
   inkscape ghostscript poppler-utils time
   chromium firefox-esr librsvg2-bin terser
+  python3-dev python3-pybind11 python3-numpy python3-pytest python3-distributed
 )
 
 missing=()
