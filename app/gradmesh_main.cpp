@@ -20,6 +20,7 @@
 #include "formats/gmb.h"
 #include "formats/input_file.h"
 #include "formats/raster.h"
+#include "batch_command.h"
 #include "command_limits.h"
 #include "image_command.h"
 #include "view_command.h"
@@ -112,6 +113,7 @@ const std::map<std::string, std::string> kHelp = {
      "                      background shows through them\n"
      "  --erode N           leave out pixels within N px of the compared area's edge\n"},
     {"view", gm::kViewHelp},
+    {"batch", gm::kBatchHelp},
     {"sample",
      "usage: gradmesh sample OUT\n"
      "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
@@ -499,6 +501,37 @@ int cmdSample(const Args& a) {
     return 0;
 }
 
+// The valued options and the flags of convert (or render).
+std::pair<std::set<std::string>, std::set<std::string>> convertOptionNames(const std::string& command) {
+    std::set<std::string> valued = {"--output", "--svg-colors", "--svg-script", "--color-tolerance", "--min-piece",
+                                    "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
+    valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
+    valued.insert("--svg-fallback");
+    if (command == "convert") valued.insert("--compact-level");
+    if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
+    std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
+    if (command == "convert") flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());
+    return {valued, flags};
+}
+
+// batch (batch_command.h): convert's options and their parsing, for each image.
+int cmdBatch(int argc, char** argv) {
+    gm::ConvertSyntax syntax;
+    std::tie(syntax.valued, syntax.flags) = convertOptionNames("convert");
+    syntax.writeOptions = [](const std::map<std::string, std::string>& values,
+                             const std::set<std::string>& flags) {
+        Args a;
+        a.values = values;
+        a.flags = flags;
+        return parseWriteOptions(a);
+    };
+    try {
+        return gm::batchCommand(std::vector<std::string>(argv + 2, argv + argc), syntax);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+}
+
 }  // namespace
 
 // A thread that cannot start (std::thread's system_error EAGAIN, TBB's "pthread_create has
@@ -547,17 +580,11 @@ int main(int argc, char** argv) {
     }
     try {
         if (command == "convert" || command == "render") {
-            std::set<std::string> valued = {"--output", "--svg-colors", "--svg-script", "--color-tolerance", "--min-piece",
-                                            "--scale", "--background", "--mesh-lines", "--max-output-bytes"};
-            valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
-            valued.insert("--svg-fallback");
-            if (command == "convert") valued.insert("--compact-level");
-            if (command == "convert") valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
-            std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
-            if (command == "convert") flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());
+            const auto [valued, flags] = convertOptionNames(command);
             const Args a = parseArgs(command, argc, argv, valued, flags);
             return cmdConvert(a, command == "render");
         }
+        if (command == "batch") return cmdBatch(argc, argv);
         if (command == "info") return cmdInfo(parseArgs(command, argc, argv, {}, {}));
         if (command == "compare")
             return cmdCompare(parseArgs(command, argc, argv, {"--mask", "--background", "--erode"}, {}));
