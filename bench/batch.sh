@@ -26,15 +26,20 @@ mkdir -p "$work/in" "$work/out-loop"
 
 samples=(apple.jpg astronaut.png chelsea.png fruits.jpg HappyFish.jpg horse.png pic1.png plant.jpg)
 echo "== making $n images of ${side}x$side in $work/in" >&2
-for ((k = 0; k < n; k++)); do
-  s=samples/${samples[k % ${#samples[@]}]}
+# One oiiotool per sample: each crop is cut from a copy of the sample (--dup), written, popped.
+for ((j = 0; j < ${#samples[@]}; j++)); do
+  s=samples/${samples[j]}
   read -r w h < <(oiiotool --info "$s" | sed -E 's/.*: *([0-9]+) x *([0-9]+),.*/\1 \2/')
   small=$(( w < h ? w : h ))
-  size=$(( small * (50 + (k * 7) % 51) / 100 ))          # 50% to 100% of the shorter side
-  x=$(( (w - size) * ((k * 13) % 10) / 9 ))
-  y=$(( (h - size) * ((k * 17) % 10) / 9 ))
-  oiiotool "$s" --cut "${size}x${size}+${x}+${y}" --resize "${side}x${side}" \
-    -o "$(printf '%s/in/img%03d.png' "$work" "$k")"
+  args=()
+  for ((k = j; k < n; k += ${#samples[@]})); do
+    size=$(( small * (50 + (k * 7) % 51) / 100 ))          # 50% to 100% of the shorter side
+    x=$(( (w - size) * ((k * 13) % 10) / 9 ))
+    y=$(( (h - size) * ((k * 17) % 10) / 9 ))
+    args+=(--dup --cut "${size}x${size}+${x}+${y}" --resize "${side}x${side}"
+           -o "$(printf '%s/in/img%03d.png' "$work" "$k")" --pop)
+  done
+  oiiotool "$s" "${args[@]}"
 done
 
 timed() {  # timed NAME COMMAND...: /usr/bin/time's figures into $work/NAME.time
