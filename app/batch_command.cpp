@@ -53,6 +53,12 @@ const std::set<std::string> kBatchFlags = {"--force", "--dry-run"};
 // Options of convert that name one file: a batch has one per image, given in a manifest.
 const std::set<std::string> kPerImageOnly = {"--output", "--mask", "--report"};
 
+std::string perImageOnly(const std::string& option) {
+    if (option == "--mask") return "--mask is per image: give it in a manifest's mask column";
+    if (option == "--report") return "batch takes no --report: its log (--log) has each image's figures";
+    return "batch writes DIR/<stem>.<ext>: give --output-dir (and a manifest's output column for a name)";
+}
+
 struct ParsedOptions {
     std::vector<std::string> positional;
     std::map<std::string, std::string> values;
@@ -78,9 +84,7 @@ ParsedOptions parseOptions(const std::vector<std::string>& words, const std::set
             value = w.substr(eq + 1);
             w = w.substr(0, eq);
         }
-        if (kPerImageOnly.count(w))
-            throw std::invalid_argument(w + " names one file; batch takes it per image from a manifest" +
-                                        std::string(w == "--mask" ? " (its mask column)" : w == "--output" ? " (its output column) or --output-dir" : "") + where);
+        if (kPerImageOnly.count(w)) throw std::invalid_argument(perImageOnly(w) + where);
         if (valued.count(w)) {
             if (!hasValue && k + 1 >= words.size()) throw std::invalid_argument(w + " needs a value" + where);
             p.values[w] = hasValue ? value : words[++k];
@@ -231,6 +235,10 @@ std::string convertJob(const BatchJob& job, const ConvertSyntax& convert) {
     if (!job.record.mask.empty()) requireRegularFile(job.record.mask);
     std::vector<ImageTarget> targets;
     for (const std::string& out : job.record.outputs) {
+        std::error_code ec;
+        if (fs::exists(out, ec) && (fs::equivalent(in, out, ec) ||
+                                    (!job.record.mask.empty() && fs::equivalent(job.record.mask, out, ec))))
+            throw Error("the output would overwrite an input; refusing", out);
         fs::create_directories(fs::path(out).parent_path());
         targets.push_back({out, FormatRegistry::builtin().forPath(out)});
     }

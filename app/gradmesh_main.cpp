@@ -54,6 +54,7 @@ const char* kMainHelp =
     "  view IN -o PAGE.html  a page to look at a mesh file: render, mesh lines, zoom, figures\n"
     "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
     "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
+    "  batch INPUTS --output-dir DIR  many images (directories, globs, manifests), resumable\n"
     "\n"
     "`gradmesh <command> --help` describes each command.\n";
 

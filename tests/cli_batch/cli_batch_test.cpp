@@ -376,3 +376,15 @@ TEST_CASE("batch: usage errors") {
     CHECK(clash.code == 2);
     CHECK_THAT(clash.err, Contains("would both write"));
 }
+
+TEST_CASE("batch: an output that would overwrite its input is refused") {
+    const fs::path dir = tmpDir("overwrite");
+    const fs::path in = dir / "in";
+    fs::create_directories(in);
+    crop("pic1.png", 20, 20, 40, in / "a.png");
+    const std::string before = slurp(in / "a.png");
+    const Run r = gradmesh("batch " + q(in) + " --output-dir " + q(in) + " --to png --log " + q(dir / "log.jsonl"), dir);
+    CHECK(r.code == 1);
+    CHECK(slurp(in / "a.png") == before);
+    CHECK_THAT(slurp(dir / "log.jsonl"), Contains("would overwrite an input"));
+}
