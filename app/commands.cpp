@@ -24,6 +24,7 @@ const char* const kMainHelp =
     "  view IN -o PAGE.html  a page to look at a mesh file: render, mesh lines, zoom, figures\n"
     "  compare A B           error figures between two images (E, RMSE, PSNR, max, coverage)\n"
     "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
+    "  batch INPUTS --output-dir DIR  many images (directories, globs, manifests), resumable\n"
     "\n"
     "`gradmesh <command> --help` describes each command.\n";
 
@@ -104,6 +105,30 @@ const char* const kViewHelp =
     "  --max-output-bytes N    the page, and each format's encoding (default 1073741824)\n"
     "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n";
 
+// batch (batch_command.h): convert, many times over.
+const char* const kBatchHelp =
+    "usage: gradmesh batch INPUTS... --output-dir DIR [--to gmb,svg] [options]\n"
+    "  Converts many images as `convert` converts one (the same bytes), one image per core at\n"
+    "  a time. A rerun skips the images already done and redoes the others (docs/batch.md).\n"
+    "  INPUTS                  directories (their images), glob patterns ('photos/*.jpg'),\n"
+    "                          image files, manifests (.csv or .jsonl: image, mask, options,\n"
+    "                          output per line)\n"
+    "  --output-dir DIR        where DIR/<stem>.<ext> are written (made if missing)\n"
+    "  --to FORMAT[,FORMAT]    the outputs of each image: gmb (default), svg, svgz, eps, pdf,\n"
+    "                          png, ... ; one conversion writes them all\n"
+    "  --log FILE              the JSON-lines log, appended: one record per image (default\n"
+    "                          DIR/gradmesh-batch.jsonl); a rerun reads it to resume\n"
+    "  --jobs N                images converted at once (default: the cores this process may\n"
+    "                          use); each conversion runs on one thread unless --threads says\n"
+    "  --shard i/n             only the images k with k mod n = i (0 <= i < n), for n machines\n"
+    "                          sharing a manifest\n"
+    "  --force                 convert every image, done or not\n"
+    "  --dry-run               print what would be converted and what skipped, convert nothing\n"
+    "  Every option of convert for images (--max-error, --segment, --compact, --svg-*, limits\n"
+    "  ...) applies to each image; a manifest's options add to them. Not --output, --mask\n"
+    "  (per image, in a manifest) or --report.\n"
+    "  Exit 0 when every image is done, 1 when one failed (its record says why).\n";
+
 }  // namespace
 
 const std::vector<Command>& commands() {
@@ -132,6 +157,7 @@ const std::vector<Command>& commands() {
          "                      background shows through them\n"
          "  --erode N           leave out pixels within N px of the compared area's edge\n"},
         {"view", kViewHelp},
+        {"batch", kBatchHelp},
         {"sample",
          "usage: gradmesh sample OUT\n"
          "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"

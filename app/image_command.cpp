@@ -260,16 +260,18 @@ struct Inputs {
 };
 
 // The image and the mask, their sizes checked against the limits before any pixel is
-// allocated (and against the render the output or its fallback needs).
-Inputs readInputs(const std::string& in, const std::string& out, const MeshFormat& writer,
+// allocated (and against the render each output or its fallback needs).
+Inputs readInputs(const std::string& in, const std::vector<ImageTarget>& targets,
                   const WriteOptions& writeOptions, const ImageJob& job,
                   const CommandLimits& limits) {
     const auto t0 = Clock::now();
     const ImageProbe probe = probeInput(in, job.segment, job.maxPixels, limits);
-    if (writer.name() == "raster")
-        requireRenderWithinLimits(probe.width, probe.height, writeOptions.rasterScale, limits, out);
-    if (writer.name() == "svg" && writeOptions.svgFallback != "none")  // the fallback is a render
-        requireRenderWithinLimits(probe.width, probe.height, 1.0, limits, out);
+    for (const ImageTarget& t : targets) {
+        if (t.writer->name() == "raster")
+            requireRenderWithinLimits(probe.width, probe.height, writeOptions.rasterScale, limits, t.path);
+        if (t.writer->name() == "svg" && writeOptions.svgFallback != "none")  // the fallback is a render
+            requireRenderWithinLimits(probe.width, probe.height, 1.0, limits, t.path);
+    }
     Inputs inputs;
     inputs.image = readQuietly(in, job.maxPixels);
     if (!job.maskPath.empty()) inputs.maskImage = readQuietly(job.maskPath, job.maxPixels);
@@ -360,17 +362,29 @@ ReportFacts reportFacts(const std::string& in, const std::string& out, const Ima
 
 }  // namespace
 
+void checkImageOptions(const std::map<std::string, std::string>& values) {
+    parseImageJob(values);
+    commandLimits(values);
+}
+
 void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
                          const WriteOptions& writeOptions,
                          const std::map<std::string, std::string>& values) {
+    convertImageToTargets(in, {{out, &writer}}, writeOptions, values);
+}
+
+ImageFigures convertImageToTargets(const std::string& in, const std::vector<ImageTarget>& targets,
+                                   const WriteOptions& writeOptions,
+                                   const std::map<std::string, std::string>& values) {
     const auto tStart = Clock::now();
     ImageJob job = parseImageJob(values);
-    checkPlaces(in, out, job);
+    const std::string& out = targets.at(0).path;  // the one the report describes
+    for (const ImageTarget& t : targets) checkPlaces(in, t.path, job);
     // Every output of the run is written to its temporary and renamed into place together at
     // the end: a late failure (a report into /proc, a full disk) leaves an existing output as it
     // was. Created now, so that an unwritable place fails before the conversion's work.
     OutputBatch outputs;
-    outputs.reserve(out);
+    for (const ImageTarget& t : targets) outputs.reserve(t.path);
     if (!job.reportPath.empty()) outputs.reserve(job.reportPath);
     const CommandLimits limits = commandLimits(values);
     if (const int total = job.segmentOptions.totalPatches;
@@ -379,14 +393,15 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
                                     " is over --max-document-patches " +
                                     std::to_string(limits.maxDocumentPatches));
 
-    const Inputs inputs = readInputs(in, out, writer, writeOptions, job, limits);
+    const Inputs inputs = readInputs(in, targets, writeOptions, job, limits);
     const Conversion c = convertInputs(in, inputs, job, limits);
 
     // A compact .gmb holds the colours refitted to its grids (the file is the compact file's
     // bytes: re-encoding a quantised document gives the same file).
     WriteOptions wo = writeOptions;
     const bool autoLevel = wo.compact && wo.compactLevel == kCompactLevelAuto;
-    const bool compactOutput = wo.compact && writer.name() == "gmb";
+    bool compactOutput = false;
+    for (const ImageTarget& t : targets) compactOutput = compactOutput || (wo.compact && t.writer->name() == "gmb");
     std::optional<CompactFile> compact;
     if (autoLevel)
         compact = coarsestCompactFile(c.doc, kGmbMaxCompactLevel, compactTarget(inputs, c, job), kGmbCodec);
@@ -395,10 +410,16 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
     if (compact) wo.compactLevel = compact->level;
 
     auto t0 = Clock::now();
-    const std::string bytes = writer.encode(
-        compactOutput ? compact->doc : documentForWriter(c.doc, writer, wo, out, job.convert.threads),
-        out, wo);
-    outputs.write(out, bytes);
+    uint64_t outBytes = 0;
+    for (const ImageTarget& t : targets) {
+        const bool compactTargetFile = wo.compact && t.writer->name() == "gmb";
+        const std::string bytes = t.writer->encode(
+            compactTargetFile ? compact->doc
+                              : documentForWriter(c.doc, *t.writer, wo, t.path, job.convert.threads),
+            t.path, wo);
+        outputs.write(t.path, bytes);
+        if (&t == &targets[0]) outBytes = bytes.size();
+    }
     const double writeSeconds = since(t0);
 
     if (!job.reportPath.empty()) {
@@ -414,7 +435,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
             if (!compact)
                 compact = compactFileAt(c.doc, wo.compact ? wo.compactLevel : 0,
                                         compactTarget(inputs, c, job), kGmbCodec);
-            ReportFacts facts = reportFacts(in, out, job, inputs, c, bytes.size());
+            ReportFacts facts = reportFacts(in, out, job, inputs, c, outBytes);
             facts.readSeconds = inputs.seconds;
             facts.maskSeconds = c.maskSeconds;
             facts.writeSeconds = writeSeconds;
@@ -425,6 +446,7 @@ void convertImageCommand(const std::string& in, const std::string& out, const Me
         outputs.write(job.reportPath, report);
     }
     outputs.commit();
+    return {documentPatches(c.doc), c.report.convert.error.meanAbs, c.report.convert.error.psnr};
 }
 
 Document documentForWriter(const Document& doc, const MeshFormat& writer,

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "formats/registry.h"
 
@@ -20,6 +21,30 @@ extern const std::set<std::string> kImageFlagOptions;  // passed in `values` wit
 void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
                          const WriteOptions& writeOptions,
                          const std::map<std::string, std::string>& values);
+
+// One output of an image conversion: its path and the writer of its format.
+struct ImageTarget {
+    std::string path;
+    const MeshFormat* writer = nullptr;
+};
+
+// What an image conversion made: the document's patches and its error (E, PSNR) over the
+// measured pixels.
+struct ImageFigures {
+    uint64_t patches = 0;
+    double meanAbs = 0, psnr = 0;
+};
+
+// convertImageCommand writing one conversion to several outputs: each holds the bytes that
+// `convert IN -o PATH` with the same options writes. --report describes the first. All are
+// renamed into place together, after the last is written.
+ImageFigures convertImageToTargets(const std::string& in, const std::vector<ImageTarget>& targets,
+                                   const WriteOptions& writeOptions,
+                                   const std::map<std::string, std::string>& values);
+
+// Throws std::invalid_argument, as the conversion would, when an option value in `values` is
+// bad (--max-error x, --segments without --segment, a bad limit...).
+void checkImageOptions(const std::map<std::string, std::string>& values);
 
 // The document as `writer` should receive it: for the default bicubic SVG, Hermite meshes are
 // refitted in the Bicubic model (toBicubicModel), and a line on standard error says how far

@@ -13,8 +13,10 @@
 #include <set>
 #include <string>
 #include <system_error>
+#include <tuple>
 #include <vector>
 
+#include "batch_command.h"
 #include "cli_common.h"
 #include "command_limits.h"
 #include "formats/gmb.h"
@@ -284,7 +286,9 @@ int cmdSample(const Args& a) {
 }
 
 
-int runConvert(const std::string& command, int argc, char** argv) {
+// The valued options and the flags of convert (or render).
+std::pair<std::set<std::string>, std::set<std::string>> convertOptionNames(
+    const std::string& command) {
     std::set<std::string> valued = {"--output", "--svg-colors", "--svg-script", "--color-tolerance",
                                     "--min-piece", "--scale", "--background", "--mesh-lines",
                                     "--max-output-bytes", "--svg-fallback"};
@@ -295,7 +299,30 @@ int runConvert(const std::string& command, int argc, char** argv) {
         valued.insert(gm::kImageValuedOptions.begin(), gm::kImageValuedOptions.end());
         flags.insert(gm::kImageFlagOptions.begin(), gm::kImageFlagOptions.end());
     }
+    return {valued, flags};
+}
+
+int runConvert(const std::string& command, int argc, char** argv) {
+    const auto [valued, flags] = convertOptionNames(command);
     return cmdConvert(parseArgs(command, argc, argv, valued, flags), command == "render");
+}
+
+// batch (batch_command.h): convert's options and their parsing, for each image.
+int runBatch(const std::string&, int argc, char** argv) {
+    gm::ConvertSyntax syntax;
+    std::tie(syntax.valued, syntax.flags) = convertOptionNames("convert");
+    syntax.writeOptions = [](const std::map<std::string, std::string>& values,
+                             const std::set<std::string>& flags) {
+        Args a;
+        a.values = values;
+        a.flags = flags;
+        return parseWriteOptions(a);
+    };
+    try {
+        return gm::batchCommand(std::vector<std::string>(argv + 2, argv + argc), syntax);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
 }
 
 int runView(const std::string& command, int argc, char** argv) {
@@ -331,6 +358,7 @@ int runCommand(const std::string& command, int argc, char** argv) {
     static const std::map<std::string, Runner> runners = {
         {"convert", runConvert}, {"render", runConvert}, {"info", runInfo},
         {"compare", runCompare}, {"view", runView},      {"sample", runSample},
+        {"batch", runBatch},
     };
     const auto it = runners.find(command);
     if (it == runners.end()) return 2;  // answerWithoutRunning reports unknown commands

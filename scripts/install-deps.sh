@@ -7,7 +7,7 @@ packages=(
   cmake ninja-build g++ clang libclang-rt-14-dev pkg-config
   libopenimageio-dev openimageio-tools libwebp-dev libopenexr-dev libjpeg-dev libeigen3-dev libcgal-dev libtinyxml2-dev
   catch2 libzstd-dev zlib1g-dev libopencv-dev
-  inkscape ghostscript poppler-utils time
+  inkscape ghostscript poppler-utils time parallel
   chromium firefox-esr librsvg2-bin terser
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-distributed
 )
