@@ -128,7 +128,8 @@ void checkEmpty(const gm::RgbaImage& ours, const gm::RgbaImage& shot, Coverage& 
 // How much of the background shows through each pixel of `ours`' interior (opaque, eroded
 // 1 px) in the screenshot: the fraction f with shot = (1−f)·ours + f·background, estimated
 // along the direction from our colour to the background's. Pixels whose colour is near the
-// background's say nothing and are left out.
+// background's say nothing and are left out, and so are pixels far off that line (no mix of our
+// colour and the background: a colour difference, which E counts, not a pinhole).
 Coverage coverage(const gm::RgbaImage& ours, const gm::RgbaImage& shot) {
     Coverage c;
     const int W = ours.width, H = ours.height;
@@ -149,6 +150,12 @@ Coverage coverage(const gm::RgbaImage& ours, const gm::RgbaImage& shot) {
             }
             if (span < 0.4 * 0.4) continue;
             const double f = along / span;
+            double offLine = 0;  // the screenshot's distance from (1−f)·ours + f·background
+            for (int k = 0; k < 3; ++k) {
+                const double mix = (1 - f) * ours.at(x, y)[k] + f * kBackground[k];
+                offLine = std::max(offLine, double(std::fabs(shot.at(x, y)[k] - mix)));
+            }
+            if (offLine > 0.2) continue;
             c.worst = std::max(c.worst, f);
             if (f > 0.4) ++c.uncovered;
         }
