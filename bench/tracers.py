@@ -3,8 +3,8 @@
     python3 bench/tracers.py [IMAGE ...]        (outputs under bench-out/tracers/)
 
 For each image (flattened over white first, so that every tool sees the same pixels):
-- gradmesh: `convert --segment --max-error E` at several E (3 is the default), written as the
-  default SVG (with the mesh script) and as `--svg-script none`;
+- gradmesh: `convert --segment --max-error E [--total-patches N]` at several points (E 3 alone is
+  the default), written as the default SVG (with the mesh script) and as `--svg-script none`;
 - vtracer (npm @neplex/vectorizer) and imagetracerjs (npm imagetracerjs) at several presets
   (bench/tracers.mjs), installed here from npm into bench-out/tracers/npm (never committed).
 Every SVG is rendered by Inkscape at the image's size and scored against the image by
@@ -13,7 +13,8 @@ strong edge). Bytes are the SVG file, raw and gzipped (-9).
 
 Then, for each tracer point: our SVG's bytes at the tracer's PSNR (interpolated on our curve,
 log bytes linear in PSNR) over the tracer's bytes, raw and gzipped; and our PSNR at the tracer's
-bytes. Prints markdown tables; writes bench-out/tracers/results.json.
+bytes. Prints markdown tables; writes bench-out/tracers/results.json. GRADMESH and STRAY_PIXELS
+name other builds of the two programs.
 """
 import gzip
 import json
@@ -24,12 +25,15 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "bench-out", "tracers")
-GM = os.path.join(ROOT, "build", "app", "gradmesh")
-STRAY = os.path.join(ROOT, "build", "bench", "stray_pixels")
+GM = os.environ.get("GRADMESH", os.path.join(ROOT, "build", "app", "gradmesh"))
+STRAY = os.environ.get("STRAY_PIXELS", os.path.join(ROOT, "build", "bench", "stray_pixels"))
 IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png", "smarties.png", "opencv-logo.png",
           "detect_blob.png"]
-OUR_ERRORS = [8, 6, 4, 3, 2]  # --max-error points; 3 is convert's default
-DEFAULT_ERROR = 3
+# Our points: (--max-error, --total-patches or None). The error targets alone give the middle
+# and the top of our curve (3 alone is convert's default); whole-image budgets give its low end.
+OUR_POINTS = [(2, 300), (2, 1000), (2, 3000), (8, None), (6, None), (4, None), (3, None),
+              (2, None)]
+DEFAULT_POINT = (3, None)
 TRACERS = [("vtracer", p) for p in ["coarse", "photo", "default", "detailed"]] + \
           [("imagetracer", p) for p in ["posterized2", "smoothed", "default", "detailed"]]
 
@@ -83,9 +87,11 @@ def score(image, svg, width, height):
 
 def our_points(image, stem, width, height):
     points = []
-    for error in OUR_ERRORS:
-        gmb = os.path.join(OUT, f"{stem}_gm_e{error}.gmb")
-        run([GM, "convert", image, "--segment", "--max-error", str(error), "-o", gmb])
+    for error, total in OUR_POINTS:
+        name = f"E {error}" + (f", {total} patches" if total else "")
+        gmb = os.path.join(OUT, f"{stem}_gm_e{error}" + (f"_t{total}" if total else "") + ".gmb")
+        budget = ["--total-patches", str(total)] if total else []
+        run([GM, "convert", image, "--segment", "--max-error", str(error), *budget, "-o", gmb])
         patches = int(run([GM, "info", gmb]).stdout.split("patches:")[1].split()[0])
         svg = gmb[:-4] + ".svg"
         bare = gmb[:-4] + "_noscript.svg"
@@ -93,9 +99,9 @@ def our_points(image, stem, width, height):
         run([GM, "convert", gmb, "--svg-script", "none", "-o", bare])
         figures = score(image, svg, width, height)
         data = open(bare, "rb").read()
-        figures.update(tool="gradmesh", preset=f"E {error}", patches=patches,
+        figures.update(tool="gradmesh", preset=name, patches=patches,
                        bytes_noscript=len(data), gzip_noscript=len(gzip.compress(data, 9)),
-                       default=error == DEFAULT_ERROR)
+                       default=(error, total) == DEFAULT_POINT)
         points.append(figures)
     return points
 
