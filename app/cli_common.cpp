@@ -25,27 +25,6 @@ bool isOption(const std::string& s) {
            !(std::isdigit(static_cast<unsigned char>(s[1])) || s[1] == '.');
 }
 
-// Errors are one line: libraries' messages (OpenImageIO's) may hold several, often repeated.
-std::string oneLine(const std::string& message) {
-    std::vector<std::string> parts;
-    size_t start = 0;
-    while (start <= message.size()) {
-        size_t end = message.find_first_of("\r\n", start);
-        if (end == std::string::npos) end = message.size();
-        std::string part = message.substr(start, end - start);
-        const size_t a = part.find_first_not_of(" \t"), b = part.find_last_not_of(" \t");
-        part = a == std::string::npos ? std::string() : part.substr(a, b - a + 1);
-        bool seen = part.empty();
-        for (const std::string& p : parts)
-            seen = seen || p.find(part) != std::string::npos;
-        if (!seen) parts.push_back(part);
-        start = end + 1;
-    }
-    std::string line;
-    for (const std::string& p : parts) line += (line.empty() ? "" : "; ") + p;
-    return line;
-}
-
 // What an error prints: one line, input text in it (file names, SVG ids, attribute values)
 // with its control characters escaped.
 std::string messageLine(const std::string& message) { return printableText(oneLine(message)); }

@@ -19,11 +19,13 @@
 #include "batch_command.h"
 #include "cli_common.h"
 #include "command_limits.h"
+#include "formats/atomic_file.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
 #include "formats/registry.h"
 #include "image_command.h"
 #include "info_command.h"
+#include "meshcore/color_text.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
 #include "meshcore/synthetic_meshes.h"
@@ -34,36 +36,8 @@ namespace gm::cli {
 namespace {
 
 std::array<float, 4> parseColor(const std::string& text) {
-    if (text == "none" || text == "transparent") return {0, 0, 0, 0};
-    if (text == "white") return {1, 1, 1, 1};
-    if (text == "black") return {0, 0, 0, 1};
-    if ((text.size() == 7 || text.size() == 9) && text[0] == '#' &&
-        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
-        std::array<float, 4> c = {0, 0, 0, 1};
-        for (size_t k = 0; k * 2 + 1 < text.size(); ++k)
-            c[k] = std::stoi(text.substr(1 + 2 * k, 2), nullptr, 16) / 255.f;
-        return c;
-    }
+    if (const auto color = gm::parseColorText(text)) return *color;
     throw UsageError("--background expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
-}
-
-// Refuses an output that is the input (same file, whatever the spelling).
-void requireDistinct(const std::string& in, const std::string& out, const char* role = "input") {
-    std::error_code ec;
-    if (std::filesystem::exists(out, ec) && std::filesystem::equivalent(in, out, ec))
-        throw Error(std::string("output is the ") + role + " file; refusing to overwrite it", out);
-}
-
-const gm::MeshFormat* writerFor(const std::string& path) {
-    const gm::MeshFormat* f = gm::FormatRegistry::builtin().forPath(path);
-    if (!f || !f->canWrite()) {
-        std::string known;
-        for (const gm::MeshFormat* g : gm::FormatRegistry::builtin().all())
-            if (g->canWrite())
-                for (const std::string& e : g->extensions()) known += (known.empty() ? "" : " ") + e;
-        throw Error("cannot write '" + gm::lowerExtension(path) + "' files (known: " + known + ")", path);
-    }
-    return f;
 }
 
 std::string requireOutput(const Args& a) {
@@ -130,7 +104,7 @@ void convertRasterInput(const Args& a, const std::string& in, const std::string&
     if (auto it = a.values.find("--mask"); it != a.values.end()) {
         if (it->second.empty()) throw UsageError("--mask needs a file name");
         requireInputFile(it->second);
-        requireDistinct(it->second, out, "mask");
+        gm::refuseOverwritingInput(it->second, out, "mask");
     }
     std::map<std::string, std::string> values = a.values;
     for (const std::string& f : gm::kImageFlagOptions)
@@ -177,12 +151,12 @@ int cmdConvert(const Args& a, bool renderOnly) {
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
-    const gm::MeshFormat* writer = writerFor(out);
+    const gm::MeshFormat* writer = &gm::FormatRegistry::builtin().writerFor(out);
     if (renderOnly && writer->name() != "raster")
         throw UsageError("render writes raster images (.png .jpg .tif .exr); use convert for '" +
                          gm::lowerExtension(out) + "'");
     requireInputFile(in);
-    requireDistinct(in, out);
+    gm::refuseOverwritingInput(in, out);
     if (!renderOnly) {
         const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
         if (reader && reader->name() == "raster") {
@@ -281,7 +255,7 @@ int cmdCompare(const Args& a) {
 int cmdSample(const Args& a) {
     if (a.positional.size() != 1) throw UsageError("expects exactly one output file");
     const std::string out = a.positional[0];
-    writerFor(out)->write(gm::makeDemoDocument(), out, gm::WriteOptions{});
+    gm::FormatRegistry::builtin().writerFor(out).write(gm::makeDemoDocument(), out, gm::WriteOptions{});
     return 0;
 }
 

@@ -9,6 +9,7 @@
 #include "converters/compact_file.h"
 #include "converters/conversion_report.h"
 #include "converters/foreground.h"
+#include "formats/atomic_file.h"
 #include "formats/gmb.h"
 #include "formats/input_file.h"
 #include "formats/raster.h"
@@ -153,15 +154,7 @@ std::string encodeForWriter(const gm::Document& doc, const Conversion* conversio
 }
 
 const gm::MeshFormat& writerFor(const std::string& path) {
-    const gm::MeshFormat* f = gm::FormatRegistry::builtin().forPath(path);
-    if (!f || !f->canWrite()) {
-        std::string known;
-        for (const gm::MeshFormat* g : gm::FormatRegistry::builtin().all())
-            if (g->canWrite())
-                for (const std::string& e : g->extensions()) known += (known.empty() ? "" : " ") + e;
-        throw gm::Error("cannot write '" + gm::lowerExtension(path) + "' files (known: " + known + ")", path);
-    }
-    return *f;
+    return gm::FormatRegistry::builtin().writerFor(path);
 }
 
 gm::Document readDocument(const std::string& path, uint64_t maxPatches) {
@@ -189,29 +182,11 @@ NamedImage readImageFile(const std::string& path, uint64_t maxPixels) {
 }
 
 void requireDistinct(const std::string& input, const std::string& output) {
-    std::error_code ec;
-    if (!input.empty() && std::filesystem::exists(output, ec) &&
-        std::filesystem::equivalent(input, output, ec))
-        throw gm::Error("output is the input file; refusing to overwrite it", output);
+    gm::refuseOverwritingInput(input, output);
 }
 
 std::string messageLine(const std::string& message) {
-    std::vector<std::string> parts;
-    size_t start = 0;
-    while (start <= message.size()) {
-        size_t end = message.find_first_of("\r\n", start);
-        if (end == std::string::npos) end = message.size();
-        std::string part = message.substr(start, end - start);
-        const size_t a = part.find_first_not_of(" \t"), b = part.find_last_not_of(" \t");
-        part = a == std::string::npos ? std::string() : part.substr(a, b - a + 1);
-        bool seen = part.empty();
-        for (const std::string& p : parts) seen = seen || p.find(part) != std::string::npos;
-        if (!seen) parts.push_back(part);
-        start = end + 1;
-    }
-    std::string line;
-    for (const std::string& p : parts) line += (line.empty() ? "" : "; ") + p;
-    return gm::printableText(line);
+    return gm::printableText(gm::oneLine(message));
 }
 
 }  // namespace gmpy

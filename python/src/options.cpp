@@ -6,6 +6,7 @@
 
 #include "converters/convert_segments.h"
 #include "formats/gmb.h"
+#include "meshcore/color_text.h"
 
 namespace py = pybind11;
 
@@ -102,16 +103,7 @@ std::array<float, 4> OptionReader::color(const char* key, std::array<float, 4> f
 }
 
 std::array<float, 4> parseColorText(const std::string& key, const std::string& text) {
-    if (text == "none" || text == "transparent") return {0, 0, 0, 0};
-    if (text == "white") return {1, 1, 1, 1};
-    if (text == "black") return {0, 0, 0, 1};
-    if ((text.size() == 7 || text.size() == 9) && text[0] == '#' &&
-        text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
-        std::array<float, 4> c = {0, 0, 0, 1};
-        for (size_t k = 0; k * 2 + 1 < text.size(); ++k)
-            c[k] = std::stoi(text.substr(1 + 2 * k, 2), nullptr, 16) / 255.f;
-        return c;
-    }
+    if (const auto color = gm::parseColorText(text)) return *color;
     throw py::value_error(key + " expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
 }
 

@@ -1,5 +1,8 @@
 #include "formats/atomic_file.h"
 
+#include <filesystem>
+#include <system_error>
+
 #include "formats/temp_file.h"
 #include "meshcore/error.h"
 
@@ -35,6 +38,14 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
     OutputBatch out;
     out.write(path, bytes);
     out.commit();
+}
+
+void refuseOverwritingInput(const std::string& input, const std::string& output,
+                            const std::string& role) {
+    std::error_code ec;
+    if (!input.empty() && std::filesystem::exists(output, ec) &&
+        std::filesystem::equivalent(input, output, ec))
+        throw Error("output is the " + role + " file; refusing to overwrite it", output);
 }
 
 }  // namespace gm

@@ -63,6 +63,16 @@ const MeshFormat* FormatRegistry::forReading(const std::string& path) const {
     return forPath(path);
 }
 
+const MeshFormat& FormatRegistry::writerFor(const std::string& path) const {
+    const MeshFormat* format = forPath(path);
+    if (format && format->canWrite()) return *format;
+    std::string known;
+    for (const auto& f : formats_)
+        if (f->canWrite())
+            for (const std::string& e : f->extensions()) known += (known.empty() ? "" : " ") + e;
+    throw Error("cannot write '" + lowerExtension(path) + "' files (known: " + known + ")", path);
+}
+
 std::vector<const MeshFormat*> FormatRegistry::all() const {
     std::vector<const MeshFormat*> out;
     for (const auto& f : formats_) out.push_back(f.get());

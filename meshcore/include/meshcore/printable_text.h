@@ -12,4 +12,9 @@ namespace gm {
 // terminals) as \xNN. Everything else, printable UTF-8 included, is unchanged.
 std::string printableText(const std::string& text);
 
+// A message on one line: its lines trimmed, the empty ones and those another line already holds
+// left out, the rest joined by "; " (libraries' messages, OpenImageIO's, may hold several lines,
+// often repeated).
+std::string oneLine(const std::string& message);
+
 }  // namespace gm

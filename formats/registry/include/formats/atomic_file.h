@@ -41,4 +41,10 @@ private:
 // directory, no permission, disk full).
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
+// Throws Error naming `output` when it is the file `input` (the same file, whatever the
+// spelling: links and relative paths included); `role` says what the input is ("input",
+// "mask"). An output is never written over a file the command reads.
+void refuseOverwritingInput(const std::string& input, const std::string& output,
+                            const std::string& role = "input");
+
 }  // namespace gm

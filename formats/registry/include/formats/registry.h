@@ -114,6 +114,9 @@ public:
     // By extension, confirmed by sniffing the file's first bytes when the file exists.
     const MeshFormat* forReading(const std::string& path) const;
     std::vector<const MeshFormat*> all() const;
+    // The writer for `path`'s extension; throws Error naming the path and the extensions
+    // written when there is none.
+    const MeshFormat& writerFor(const std::string& path) const;
 
 private:
     std::vector<std::unique_ptr<MeshFormat>> formats_;
