@@ -165,7 +165,7 @@ int cmdConvert(const std::string& command, const Args& a) {
                                           const gm::MeshFormat& writer) {
         requireInputFile(in);
         gm::refuseOverwritingInput(in, out);
-        gm::ConversionProgress progress(command);
+        gm::ConversionProgress progress(command + " " + std::filesystem::path(in).filename().string());
         if (command == "convert") {
             const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
             if (reader && reader->name() == "raster") {

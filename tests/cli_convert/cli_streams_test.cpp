@@ -188,7 +188,7 @@ TEST_CASE("progress: a line on a terminal for a run over a second, none on a pip
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::string tty = slurp(dir / "tty.txt");
     if (seconds > 1.5) {  // else the run was too short to show any
-        CHECK_THAT(tty, Contains("\rgradmesh convert: regions ") && Contains("/"));
+        CHECK_THAT(tty, Contains("\rgradmesh convert pic1.png: regions ") && Contains("/"));
         CHECK_THAT(tty, Contains("\r\x1b[K"));  // erased at the end
     } else {
         WARN("the conversion took " << seconds << " s: too short to check the progress line");
