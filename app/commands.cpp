@@ -185,6 +185,7 @@ const std::vector<Command>& commands() {
          "  where A is opaque), in 0-255 units: E (mean absolute error per channel), RMSE, PSNR,\n"
          "  max, the 99th percentile of the channel errors, and the fraction of those pixels that\n"
          "  B leaves uncovered.\n"
+         "  --mask M            compare where the image M is white\n"
          "  --background COLOR  composite both images over this opaque colour first: B's partly\n"
          "                      transparent pixels (seams between meshes) then count as the\n"
          "                      background shows through them\n"
