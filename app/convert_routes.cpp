@@ -1,8 +1,11 @@
 #include "convert_routes.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "formats/atomic_file.h"
 #include "formats/input_file.h"

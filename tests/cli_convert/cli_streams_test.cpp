@@ -110,6 +110,11 @@ TEST_CASE("streams: no temporary is left in TMPDIR, on success or failure") {
                                         " convert - -o - --to svg <" + q(disc) + " >out.svg 2>/dev/null");
     CHECK(good == 0);
     CHECK(fs::file_size(dir / "out.svg") > 0);
+    // Interrupted while converting: SIGTERM removes the spooled input, the output's temporary
+    // and their directory (a run that ends first leaves nothing either).
+    const std::string pic = (fs::path(GRADMESH_SAMPLES) / "pic1.png").string();
+    gmtest::runCommand("cd " + q(dir) + " && " + env + GRADMESH_EXE + " convert - -o - --to svg --segment <" +
+                       q(pic) + " >/dev/null 2>&1 & p=$!; sleep 1; kill -TERM $p; wait $p");
     checkNoTemporaries(tmp);
 }
 
