@@ -18,6 +18,7 @@
 #include "image_command.h"
 #include "meshcore/error.h"
 #include "meshcore/printable_text.h"
+#include "output_format.h"
 
 namespace gm {
 
@@ -91,23 +92,6 @@ struct BatchSettings {
     std::map<std::string, std::string> values;  // convert's options for every image
     std::set<std::string> flags;
 };
-
-std::vector<std::string> outputExtensions(const std::string& list) {
-    std::vector<std::string> exts;
-    size_t start = 0;
-    while (start <= list.size()) {
-        size_t end = list.find(',', start);
-        if (end == std::string::npos) end = list.size();
-        std::string e = list.substr(start, end - start);
-        if (!e.empty() && e[0] == '.') e.erase(0, 1);
-        const MeshFormat* f = FormatRegistry::builtin().forPath("x." + e);
-        if (e.empty() || !f || !f->canWrite())
-            throw std::invalid_argument("--to expects formats to write (gmb, svg, svgz, eps, pdf, png ...), got '" + list + "'");
-        if (std::find(exts.begin(), exts.end(), "." + e) == exts.end()) exts.push_back("." + e);
-        start = end + 1;
-    }
-    return exts;
-}
 
 BatchSettings parseSettings(const std::vector<std::string>& args, const ConvertSyntax& convert) {
     std::set<std::string> valued = convert.valued, flags = convert.flags;

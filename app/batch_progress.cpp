@@ -1,7 +1,5 @@
 #include "batch_progress.h"
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <string>
 
@@ -21,7 +19,7 @@ std::string durationText(double seconds) {
 }  // namespace
 
 BatchProgress::BatchProgress(int total, int skipped)
-    : enabled_(::isatty(2) == 1), total_(total), skipped_(skipped),
+    : total_(total), skipped_(skipped),
       start_(std::chrono::steady_clock::now()) {
     redraw();
 }
@@ -33,10 +31,10 @@ void BatchProgress::imageDone(bool ok) {
 }
 
 void BatchProgress::redraw() {
-    if (!enabled_) return;
+    if (!line_.enabled()) return;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const double rate = elapsed > 0 ? done_ / elapsed : 0;
-    std::string line = "\rbatch: " + std::to_string(done_) + "/" + std::to_string(total_) + " images";
+    std::string line = "batch: " + std::to_string(done_) + "/" + std::to_string(total_) + " images";
     if (failed_) line += ", " + std::to_string(failed_) + " failed";
     if (skipped_) line += ", " + std::to_string(skipped_) + " already done";
     char figures[96];
@@ -45,15 +43,13 @@ void BatchProgress::redraw() {
                       durationText((total_ - done_) / rate).c_str());
         line += figures;
     }
-    line += ", " + durationText(elapsed) + " elapsed\x1b[K";
-    std::fputs(line.c_str(), stderr);
-    std::fflush(stderr);
+    line += ", " + durationText(elapsed) + " elapsed";
+    line_.show(line);
 }
 
 void BatchProgress::finish() {
-    if (!enabled_) return;
     redraw();
-    std::fputs("\n", stderr);
+    line_.keep();
 }
 
 }  // namespace gm

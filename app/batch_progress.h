@@ -1,8 +1,10 @@
 // Batch's progress line on a terminal: images done of the total, failures, images per second
-// and the time left. Nothing at all when stderr is not a terminal.
+// and the time left. Nothing at all when stderr is not a terminal (terminal_line.h).
 #pragma once
 
 #include <chrono>
+
+#include "terminal_line.h"
 
 namespace gm {
 
@@ -15,7 +17,7 @@ public:
     void finish();
 
 private:
-    bool enabled_;
+    TerminalLine line_;
     int total_, skipped_, done_ = 0, failed_ = 0;
     std::chrono::steady_clock::time_point start_;
 };

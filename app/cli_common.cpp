@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "meshcore/error.h"
 #include "meshcore/printable_text.h"
 #include "meshcore/validate.h"
+#include "verbosity.h"
 
 namespace gm::cli {
 
@@ -117,7 +119,11 @@ void prepareProcess() {
 
 int runReportingErrors(const std::string& command, const std::function<int()>& run) {
     try {
-        return run();
+        const auto start = std::chrono::steady_clock::now();
+        const int code = run();
+        detail("gradmesh %s: %.3f s\n", command.c_str(),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        return code;
     } catch (const UsageError& e) {
         std::fprintf(stderr, "gradmesh %s: %s (see gradmesh %s --help)\n", command.c_str(),
                      messageLine(e.what()).c_str(), command.c_str());

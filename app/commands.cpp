@@ -12,6 +12,12 @@ namespace gm::cli {
 
 namespace {
 
+// What every command takes besides its own options (verbosity.h), at the end of each help.
+#define GRADMESH_COMMON_OPTIONS                                                                   \
+    "  -q, --quiet             print nothing but errors on standard error\n"                     \
+    "  --verbose               also each stage's seconds and the figures on standard error\n"    \
+    "  -h, --help              this help\n"
+
 const char* const kMainHelp =
     "gradmesh — raster images to topology-preserving gradient meshes\n"
     "\n"
@@ -26,13 +32,26 @@ const char* const kMainHelp =
     "  sample OUT.gmb        write the built-in sample document (a mesh with 3 holes + a curved mesh)\n"
     "  batch INPUTS --output-dir DIR  many images (directories, globs, manifests), resumable\n"
     "\n"
-    "`gradmesh <command> --help` describes each command.\n";
+    "`gradmesh <command> --help` describes each command. A file name `-` is standard input\n"
+    "(an image or a mesh file, by content) or, after -o, standard output (with --to FORMAT).\n"
+    "\n"
+    "options of every command:\n" GRADMESH_COMMON_OPTIONS
+    "  --version               the version\n"
+    "\n"
+    "On a terminal, a run that lasts over a second shows its progress on standard error.\n";
 
 // convert: the options of every input, then those of raster inputs.
 const char* const kConvertHelp =
     "usage: gradmesh convert IN -o OUT [options]\n"
-    "  Reads IN (by content and extension) and writes OUT in the format of its extension.\n"
-    "  -o, --output PATH       output file (required; never the input)\n"
+    "       gradmesh convert IN... --output-dir DIR [--to FORMAT] [options]\n"
+    "  Reads IN (by content and extension; - reads standard input) and writes OUT in the\n"
+    "  format of its extension, or of --to.\n"
+    "  -o, --output PATH       output file (never the input); - writes standard output\n"
+    "  --to FORMAT             the output's format where its name does not say it (-o -, a\n"
+    "                          name without extension): gmb, svg, svgz, eps, pdf, png, jpg,\n"
+    "                          tif, exr\n"
+    "  --output-dir DIR        several inputs: each to DIR/<stem>.<ext> (--to, default gmb);\n"
+    "                          one that fails does not stop the others (exit 1 at the end)\n"
     "  --compact               .gmb: quantised, compressed (positions within 1/64 px)\n"
     "  --compact-level L       .gmb: compact on coarser grids, L = 0 (as --compact) to 6, or\n"
     "                          auto (image inputs): the coarsest level whose file adds at most\n"
@@ -90,7 +109,8 @@ const char* const kConvertHelp =
     "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
     "                          out where it lowers the error most (each region converted at\n"
     "                          several budgets; --max-error still stops each region)\n"
-    "  --threads N             regions converted at once (default: all cores)\n";
+    "  --threads N             regions converted at once (default: all cores)\n"
+    GRADMESH_COMMON_OPTIONS;
 
 const char* const kViewHelp =
     "usage: gradmesh view IN -o PAGE.html [--image ORIGINAL] [options]\n"
@@ -103,7 +123,8 @@ const char* const kViewHelp =
     "  -o, --output PATH       the page (.html or .htm; never the input)\n"
     "  --image ORIGINAL        the source image (.png .jpg .tif .exr), the canvas's size\n"
     "  --max-output-bytes N    the page, and each format's encoding (default 1073741824)\n"
-    "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n";
+    "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n"
+    GRADMESH_COMMON_OPTIONS;
 
 // batch (batch_command.h): convert, many times over.
 const char* const kBatchHelp =
@@ -127,41 +148,56 @@ const char* const kBatchHelp =
     "  Every option of convert for images (--max-error, --segment, --compact, --svg-*, limits\n"
     "  ...) applies to each image; a manifest's options add to them. Not --output, --mask\n"
     "  (per image, in a manifest) or --report.\n"
-    "  Exit 0 when every image is done, 1 when one failed (its record says why).\n";
+    "  Exit 0 when every image is done, 1 when one failed (its record says why).\n"
+    GRADMESH_COMMON_OPTIONS;
 
 }  // namespace
+
+const char* mainHelp() { return kMainHelp; }
+
+const char* versionText() { return "gradmesh 0.1.0"; }
 
 const std::vector<Command>& commands() {
     static const std::vector<Command> list = {
         {"convert", kConvertHelp},
         {"render",
          "usage: gradmesh render IN -o OUT.png [--scale S] [--background COLOR] [--mesh-lines COLOR]\n"
-         "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline).\n"
-         "  -o, --output PATH       .png .jpg .tif .exr\n"
+         "       gradmesh render IN... --output-dir DIR [--to FORMAT] [options]\n"
+         "  Re-renders the meshes of IN (exact Ferguson evaluation, anti-aliased outline); IN\n"
+         "  - reads a mesh file (.gmb, SVG) from standard input.\n"
+         "  -o, --output PATH       .png .jpg .tif .exr; - writes standard output (with --to)\n"
+         "  --to FORMAT             png, jpg, tif or exr, where the output's name does not say\n"
+         "  --output-dir DIR        several inputs: each to DIR/<stem>.<ext> (--to, default png)\n"
          "  --scale S               output pixels per canvas pixel (default 1)\n"
          "  --background COLOR      #rrggbb, #rrggbbaa, white, black or none (default none)\n"
          "  --mesh-lines COLOR      draw every patch edge (grid lines, outline, slits) and node in\n"
          "                          COLOR over the render, as a mesh tool shows them\n"
-         "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n"},
+         "  --max-memory SIZE, --max-document-patches N, --max-canvas-pixels N: as for convert\n"
+         GRADMESH_COMMON_OPTIONS},
         {"info",
          "usage: gradmesh info IN\n"
-         "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"},
+         "  Prints the canvas, and per mesh its grid, patches, holes and legacy piece count.\n"
+         "  IN - reads the mesh file from standard input.\n"
+         GRADMESH_COMMON_OPTIONS},
         {"compare",
          "usage: gradmesh compare A B [--mask M] [--background COLOR] [--erode N]\n"
          "  Error of image B against image A over the pixels where the mask is white (default:\n"
          "  where A is opaque), in 0-255 units: E (mean absolute error per channel), RMSE, PSNR,\n"
          "  max, the 99th percentile of the channel errors, and the fraction of those pixels that\n"
          "  B leaves uncovered.\n"
+         "  --mask M            compare where the image M is white\n"
          "  --background COLOR  composite both images over this opaque colour first: B's partly\n"
          "                      transparent pixels (seams between meshes) then count as the\n"
          "                      background shows through them\n"
-         "  --erode N           leave out pixels within N px of the compared area's edge\n"},
+         "  --erode N           leave out pixels within N px of the compared area's edge\n"
+         GRADMESH_COMMON_OPTIONS},
         {"view", kViewHelp},
         {"batch", kBatchHelp},
         {"sample",
          "usage: gradmesh sample OUT\n"
          "  Writes the built-in sample document (512x512: a mesh with 3 holes and a curved mesh)\n"
-         "  in the format of OUT's extension.\n"},
+         "  in the format of OUT's extension.\n"
+         GRADMESH_COMMON_OPTIONS},
     };
     return list;
 }
@@ -183,7 +219,7 @@ std::optional<int> answerWithoutRunning(int argc, char** argv) {
         return 0;
     }
     if (name == "--version") {
-        std::puts("gradmesh 0.1.0");
+        std::puts(versionText());
         return 0;
     }
     const Command* command = findCommand(name);

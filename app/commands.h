@@ -14,6 +14,10 @@ struct Command {
 
 const std::vector<Command>& commands();
 
+// What `gradmesh --help` and `gradmesh --version` print.
+const char* mainHelp();
+const char* versionText();
+
 // The command called `name`, or nullptr.
 const Command* findCommand(const std::string& name);
 

@@ -5,12 +5,14 @@
 // the same output, messages and exit codes for every command.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "commands.h"
 #include "formats/registry.h"
 #include "imaging_program.h"
 #include "info_command.h"
+#include "verbosity.h"
 
 namespace {
 
@@ -24,7 +26,7 @@ bool infoRunsHere(int argc, char** argv, gm::cli::Args& args) {
     } catch (const gm::cli::UsageError&) {
         return false;
     }
-    return args.positional.size() == 1 &&
+    return args.positional.size() == 1 && args.positional[0] != "-" &&
            gm::FormatRegistry::meshReaders().forReading(args.positional[0]) != nullptr;
 }
 
@@ -33,8 +35,12 @@ bool infoRunsHere(int argc, char** argv, gm::cli::Args& args) {
 int main(int argc, char** argv) {
     if (const std::optional<int> answered = gm::cli::answerWithoutRunning(argc, argv))
         return *answered;
+    // gradmesh-imaging gets every argument; info here reads them without --quiet/--verbose.
+    std::vector<char*> own(argv, argv + argc + 1);
+    int ownCount = argc;
+    gm::cli::takeVerbosityOptions(ownCount, own.data());
     gm::cli::Args args;
-    if (infoRunsHere(argc, argv, args)) {
+    if (infoRunsHere(ownCount, own.data(), args)) {
         gm::cli::prepareProcess();
         return gm::cli::runReportingErrors(
             "info", [&] { return gm::cli::infoCommand(args, gm::FormatRegistry::meshReaders()); });

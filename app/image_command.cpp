@@ -27,7 +27,9 @@
 #include "meshcore/error.h"
 #include "meshcore/render.h"
 #include "view_command.h"
+#include "verbosity.h"
 #include "view_page.h"
+#include "conversion_progress.h"
 
 namespace gm {
 
@@ -144,8 +146,8 @@ ImageProbe probeInput(const std::string& path, bool segment, uint64_t maxPixels,
                                 " image" + (segment ? " (--segment)" : ""),
                             path);
     if (probe.pages > 1)
-        std::fprintf(stderr, "gradmesh convert: warning: %s has %d pages; only the first is converted\n",
-                     path.c_str(), probe.pages);
+        cli::note("gradmesh convert: warning: %s has %d pages; only the first is converted\n",
+                  path.c_str(), probe.pages);
     return probe;
 }
 
@@ -360,6 +362,18 @@ ReportFacts reportFacts(const std::string& in, const std::string& out, const Ima
     return f;
 }
 
+// --verbose: each stage's seconds and the conversion's figures, on standard error.
+void printStages(const ViewFigures& figures, const Conversion& c, uint64_t outBytes) {
+    for (const auto& [stage, seconds] : figures.seconds)
+        cli::detail("  %-26s %8.3f s\n", stage.c_str(), seconds);
+    const size_t regions = c.report.convert.regions.size();
+    cli::detail("  %zu region(s), %zu mesh(es), %llu patches, E %.2f, PSNR %.2f dB, %llu bytes\n",
+                regions, c.doc.meshes.size(),
+                static_cast<unsigned long long>(documentPatches(c.doc)),
+                c.report.convert.error.meanAbs, c.report.convert.error.psnr,
+                static_cast<unsigned long long>(outBytes));
+}
+
 }  // namespace
 
 void checkImageOptions(const std::map<std::string, std::string>& values) {
@@ -369,15 +383,21 @@ void checkImageOptions(const std::map<std::string, std::string>& values) {
 
 void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
                          const WriteOptions& writeOptions,
-                         const std::map<std::string, std::string>& values) {
-    convertImageToTargets(in, {{out, &writer}}, writeOptions, values);
+                         const std::map<std::string, std::string>& values,
+                         ConversionProgress* progress) {
+    convertImageToTargets(in, {{out, &writer}}, writeOptions, values, progress);
 }
 
 ImageFigures convertImageToTargets(const std::string& in, const std::vector<ImageTarget>& targets,
                                    const WriteOptions& writeOptions,
-                                   const std::map<std::string, std::string>& values) {
+                                   const std::map<std::string, std::string>& values,
+                                   ConversionProgress* progress) {
     const auto tStart = Clock::now();
     ImageJob job = parseImageJob(values);
+    const auto stage = [&](const char* name) {
+        if (progress) progress->stage(name);
+    };
+    if (progress) job.convert.progress = progress->callback();
     const std::string& out = targets.at(0).path;  // the one the report describes
     for (const ImageTarget& t : targets) checkPlaces(in, t.path, job);
     // Every output of the run is written to its temporary and renamed into place together at
@@ -393,7 +413,9 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
                                     " is over --max-document-patches " +
                                     std::to_string(limits.maxDocumentPatches));
 
+    stage("read");
     const Inputs inputs = readInputs(in, targets, writeOptions, job, limits);
+    stage(job.segment || !job.maskPath.empty() ? "convert" : "mask");
     const Conversion c = convertInputs(in, inputs, job, limits);
 
     // A compact .gmb holds the colours refitted to its grids (the file is the compact file's
@@ -403,12 +425,14 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
     bool compactOutput = false;
     for (const ImageTarget& t : targets) compactOutput = compactOutput || (wo.compact && t.writer->name() == "gmb");
     std::optional<CompactFile> compact;
+    if (compactOutput || autoLevel) stage("compact");
     if (autoLevel)
         compact = coarsestCompactFile(c.doc, kGmbMaxCompactLevel, compactTarget(inputs, c, job), kGmbCodec);
     else if (compactOutput)
         compact = compactFileAt(c.doc, wo.compactLevel, compactTarget(inputs, c, job), kGmbCodec);
     if (compact) wo.compactLevel = compact->level;
 
+    stage("write");
     auto t0 = Clock::now();
     uint64_t outBytes = 0;
     for (const ImageTarget& t : targets) {
@@ -422,7 +446,12 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
     }
     const double writeSeconds = since(t0);
 
+    if (cli::verbosity() == cli::Verbosity::Verbose)
+        printStages(conversionFigures(in, out, job.segment, job.convert, c.report,
+                                      {inputs.seconds, c.maskSeconds, writeSeconds, since(tStart)}),
+                    c, outBytes);
     if (!job.reportPath.empty()) {
+        stage("report");
         const double endToEnd = since(tStart);  // what follows only measures for the report
         std::string report;
         if (isHtmlPath(job.reportPath)) {
@@ -456,10 +485,9 @@ Document documentForWriter(const Document& doc, const MeshFormat& writer,
     // A document too large for the output limit is refused before the refit's work.
     requireOutputWithinLimit(writer.leastBytes(doc, options), options, path);
     BicubicConversion c = toBicubicModel(doc, threads);
-    std::fprintf(stderr,
-                 "svg: %d Hermite mesh(es) refitted to the bicubic rule: E %.2f, PSNR %.2f dB, "
-                 "max %.0f/255 from the Hermite render (--svg-colors exact keeps them exact)\n",
-                 c.refitted, c.error.meanAbs, c.error.psnr, c.error.maxAbs);
+    cli::note("svg: %d Hermite mesh(es) refitted to the bicubic rule: E %.2f, PSNR %.2f dB, "
+              "max %.0f/255 from the Hermite render (--svg-colors exact keeps them exact)\n",
+              c.refitted, c.error.meanAbs, c.error.psnr, c.error.maxAbs);
     return std::move(c.doc);
 }
 

@@ -11,6 +11,8 @@
 
 namespace gm {
 
+class ConversionProgress;
+
 // Options of convert that only make sense for a raster input.
 extern const std::set<std::string> kImageValuedOptions;
 extern const std::set<std::string> kImageFlagOptions;  // passed in `values` with value "1"
@@ -20,7 +22,8 @@ extern const std::set<std::string> kImageFlagOptions;  // passed in `values` wit
 // std::invalid_argument (a bad option value; the message names the option).
 void convertImageCommand(const std::string& in, const std::string& out, const MeshFormat& writer,
                          const WriteOptions& writeOptions,
-                         const std::map<std::string, std::string>& values);
+                         const std::map<std::string, std::string>& values,
+                         ConversionProgress* progress = nullptr);
 
 // One output of an image conversion: its path and the writer of its format.
 struct ImageTarget {
@@ -37,10 +40,12 @@ struct ImageFigures {
 
 // convertImageCommand writing one conversion to several outputs: each holds the bytes that
 // `convert IN -o PATH` with the same options writes. --report describes the first. All are
-// renamed into place together, after the last is written.
+// renamed into place together, after the last is written. `progress` (may be null) is told
+// each stage; with --verbose, the stages' seconds and the figures go to standard error.
 ImageFigures convertImageToTargets(const std::string& in, const std::vector<ImageTarget>& targets,
                                    const WriteOptions& writeOptions,
-                                   const std::map<std::string, std::string>& values);
+                                   const std::map<std::string, std::string>& values,
+                                   ConversionProgress* progress = nullptr);
 
 // Throws std::invalid_argument, as the conversion would, when an option value in `values` is
 // bad (--max-error x, --segments without --segment, a bad limit...).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,8 @@
 #include "batch_command.h"
 #include "cli_common.h"
 #include "command_limits.h"
+#include "conversion_progress.h"
+#include "convert_routes.h"
 #include "formats/atomic_file.h"
 #include "formats/gmb.h"
 #include "formats/raster.h"
@@ -29,21 +32,21 @@
 #include "meshcore/error.h"
 #include "meshcore/render.h"
 #include "meshcore/synthetic_meshes.h"
+#include "std_streams.h"
+#include "verbosity.h"
 #include "view_command.h"
 
 namespace gm::cli {
 
 namespace {
 
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 std::array<float, 4> parseColor(const std::string& text) {
     if (const auto color = gm::parseColorText(text)) return *color;
     throw UsageError("--background expects #rrggbb, #rrggbbaa, white, black or none, got '" + text + "'");
-}
-
-std::string requireOutput(const Args& a) {
-    auto it = a.values.find("--output");
-    if (it == a.values.end() || it->second.empty()) throw UsageError("missing -o OUTPUT");
-    return it->second;
 }
 
 // --compact and --compact-level L|auto.
@@ -100,7 +103,8 @@ gm::WriteOptions parseWriteOptions(const Args& a) {
 
 // convert IMAGE: the pipeline (image_command.h), with the raster-only options.
 void convertRasterInput(const Args& a, const std::string& in, const std::string& out,
-                        const gm::MeshFormat& writer, const gm::WriteOptions& wo) {
+                        const gm::MeshFormat& writer, const gm::WriteOptions& wo,
+                        gm::ConversionProgress& progress) {
     if (auto it = a.values.find("--mask"); it != a.values.end()) {
         if (it->second.empty()) throw UsageError("--mask needs a file name");
         requireInputFile(it->second);
@@ -110,7 +114,7 @@ void convertRasterInput(const Args& a, const std::string& in, const std::string&
     for (const std::string& f : gm::kImageFlagOptions)
         if (a.flags.count(f)) values[f] = "1";
     try {
-        gm::convertImageCommand(in, out, writer, wo, values);
+        gm::convertImageCommand(in, out, writer, wo, values, &progress);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
@@ -129,21 +133,27 @@ void refuseImageOptions(const Args& a, const gm::WriteOptions& wo) {
 
 // convert/render of a mesh file: read within the limits, write through `writer`.
 void convertMeshFile(const std::string& in, const std::string& out, const gm::MeshFormat& writer,
-                     const gm::WriteOptions& wo, const gm::CommandLimits& limits) {
+                     const gm::WriteOptions& wo, const gm::CommandLimits& limits,
+                     gm::ConversionProgress& progress) {
     gm::ReadOptions ro;
     ro.limits.maxPatches = limits.maxDocumentPatches;
+    progress.stage("read");
+    auto t0 = std::chrono::steady_clock::now();
     const gm::Document doc = readDocument(gm::FormatRegistry::builtin(), in, ro);
+    const double readSeconds = secondsSince(t0);
     if (writer.name() == "raster")
         gm::requireRenderWithinLimits(doc.width, doc.height, wo.rasterScale, limits, out);
     if (writer.name() == "svg" && wo.svgFallback != "none")  // the fallback is a render
         gm::requireRenderWithinLimits(doc.width, doc.height, 1.0, limits, out);
+    progress.stage(writer.name() == "raster" ? "render" : "write");
+    t0 = std::chrono::steady_clock::now();
     writer.write(gm::documentForWriter(doc, writer, wo, out), out, wo);
+    detail("  %-26s %8.3f s\n  %-26s %8.3f s\n  %zu mesh(es), %llu patches\n", "read", readSeconds,
+           writer.name() == "raster" ? "render" : "write", secondsSince(t0), doc.meshes.size(),
+           static_cast<unsigned long long>(gm::documentPatches(doc)));
 }
 
-int cmdConvert(const Args& a, bool renderOnly) {
-    if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
-    const std::string in = a.positional[0];
-    const std::string out = requireOutput(a);
+int cmdConvert(const std::string& command, const Args& a) {
     const gm::WriteOptions wo = parseWriteOptions(a);
     gm::CommandLimits limits;
     try {
@@ -151,22 +161,21 @@ int cmdConvert(const Args& a, bool renderOnly) {
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
-    const gm::MeshFormat* writer = &gm::FormatRegistry::builtin().writerFor(out);
-    if (renderOnly && writer->name() != "raster")
-        throw UsageError("render writes raster images (.png .jpg .tif .exr); use convert for '" +
-                         gm::lowerExtension(out) + "'");
-    requireInputFile(in);
-    gm::refuseOverwritingInput(in, out);
-    if (!renderOnly) {
-        const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
-        if (reader && reader->name() == "raster") {
-            convertRasterInput(a, in, out, *writer, wo);
-            return 0;
+    return runConversions(command, a, [&](const std::string& in, const std::string& out,
+                                          const gm::MeshFormat& writer) {
+        requireInputFile(in);
+        gm::refuseOverwritingInput(in, out);
+        gm::ConversionProgress progress(command + " " + std::filesystem::path(in).filename().string());
+        if (command == "convert") {
+            const gm::MeshFormat* reader = gm::FormatRegistry::builtin().forReading(in);
+            if (reader && reader->name() == "raster") {
+                convertRasterInput(a, in, out, writer, wo, progress);
+                return;
+            }
+            refuseImageOptions(a, wo);
         }
-        refuseImageOptions(a, wo);
-    }
-    convertMeshFile(in, out, *writer, wo, limits);
-    return 0;
+        convertMeshFile(in, out, writer, wo, limits, progress);
+    });
 }
 
 // The pixels compared: the mask's white, else A's opaque pixels (alpha at least 1/2); then
@@ -265,7 +274,8 @@ std::pair<std::set<std::string>, std::set<std::string>> convertOptionNames(
     const std::string& command) {
     std::set<std::string> valued = {"--output", "--svg-colors", "--svg-script", "--color-tolerance",
                                     "--min-piece", "--scale", "--background", "--mesh-lines",
-                                    "--max-output-bytes", "--svg-fallback"};
+                                    "--max-output-bytes", "--svg-fallback", "--to",
+                                    "--output-dir"};
     valued.insert(std::begin(gm::kLimitOptions), std::end(gm::kLimitOptions));
     std::set<std::string> flags = {"--compact", "--legacy", "--text-shading"};
     if (command == "convert") {
@@ -278,13 +288,14 @@ std::pair<std::set<std::string>, std::set<std::string>> convertOptionNames(
 
 int runConvert(const std::string& command, int argc, char** argv) {
     const auto [valued, flags] = convertOptionNames(command);
-    return cmdConvert(parseArgs(command, argc, argv, valued, flags), command == "render");
+    return cmdConvert(command, parseArgs(command, argc, argv, valued, flags));
 }
 
 // batch (batch_command.h): convert's options and their parsing, for each image.
 int runBatch(const std::string&, int argc, char** argv) {
     gm::ConvertSyntax syntax;
     std::tie(syntax.valued, syntax.flags) = convertOptionNames("convert");
+    for (const char* own : {"--to", "--output-dir"}) syntax.valued.erase(own);  // batch's own
     syntax.writeOptions = [](const std::map<std::string, std::string>& values,
                              const std::set<std::string>& flags) {
         Args a;
@@ -312,8 +323,15 @@ int runView(const std::string& command, int argc, char** argv) {
     return 0;
 }
 
+// info IN, or info - for a mesh file on standard input.
 int runInfo(const std::string& command, int argc, char** argv) {
-    return infoCommand(parseArgs(command, argc, argv, {}, {}), gm::FormatRegistry::builtin());
+    Args a = parseArgs(command, argc, argv, {}, {});
+    if (a.positional.size() != 1 || !isStdStream(a.positional[0]))
+        return infoCommand(a, gm::FormatRegistry::builtin());
+    PrivateDir dir;
+    a.positional[0] = spoolStandardInput(dir, gm::FormatRegistry::builtin());
+    return withFileNamed(a.positional[0], kStdinName,
+                         [&] { return infoCommand(a, gm::FormatRegistry::builtin(), kStdinName); });
 }
 
 int runCompare(const std::string& command, int argc, char** argv) {

@@ -22,7 +22,7 @@ void printMesh(size_t k, const GradientMesh& m) {
 
 }  // namespace
 
-int infoCommand(const Args& a, const FormatRegistry& registry) {
+int infoCommand(const Args& a, const FormatRegistry& registry, const std::string& shownName) {
     if (a.positional.size() != 1) throw UsageError("expects exactly one input file");
     const std::string in = a.positional[0];
     const Document doc = readDocument(registry, in);
@@ -36,7 +36,7 @@ int infoCommand(const Args& a, const FormatRegistry& registry) {
     }
     std::printf("file: %s\nformat: %s\nbytes: %llu\ncanvas: %d x %d\nmeshes: %zu\npatches: %d\n"
                 "holes: %d\nlegacy pieces: %d\n",
-                printableText(in).c_str(), readerFor(registry, in)->name().c_str(),
+                printableText(shownName.empty() ? in : shownName).c_str(), readerFor(registry, in)->name().c_str(),
                 static_cast<unsigned long long>(bytes), doc.width, doc.height, doc.meshes.size(),
                 patches, holes, pieces);
     for (size_t k = 0; k < doc.meshes.size(); ++k) printMesh(k, doc.meshes[k]);

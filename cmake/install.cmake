@@ -51,3 +51,6 @@ install(FILES ${PROJECT_BINARY_DIR}/gradmeshConfig.cmake
         ${PROJECT_BINARY_DIR}/gradmeshConfigVersion.cmake DESTINATION ${GRADMESH_CMAKE_DIR})
 configure_file(${PROJECT_SOURCE_DIR}/cmake/gradmesh.pc.in ${PROJECT_BINARY_DIR}/gradmesh.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/gradmesh.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+install(FILES ${GRADMESH_MAN_PAGE} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+install(FILES ${GRADMESH_BASH_COMPLETION} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
+        RENAME gradmesh)

@@ -265,6 +265,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     report = RegionReport{};
     report.pixels = region.pixelCount;
     report.holes = static_cast<int>(region.holes.size());
+    reportProgress(options, "maps");
     const std::unique_ptr<RegionGeometry> geometry =
         geometryWithBestCorners(image, region, options, report, cache);
     const RegionMaps& maps = *geometry->maps;
@@ -277,6 +278,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     report.outlineKnots = geometry->fitted.addedU + geometry->fitted.addedV;
     report.featureMapUsed = geometry->featureMapUsed;
 
+    reportProgress(options, "mesh");
     const auto t0 = Clock::now();
     RefineOptions refineOptions;
     refineOptions.maxError = options.maxError;
@@ -662,6 +664,7 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     convertReport.width = image.width;
     convertReport.height = image.height;
 
+    reportProgress(options, "regions");
     const auto t0 = Clock::now();
     RegionOptions regionOptions;
     regionOptions.minArea = options.minArea;
@@ -677,7 +680,9 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
+    const int regionCount = static_cast<int>(regions.size());
     for (const Region& region : regions) {
+        reportProgress(options, "regions", static_cast<int>(&region - regions.data()), regionCount);
         std::vector<RegionReport> regionReports(1);
         try {
             for (GradientMesh& m : convertObjectRegion(image, region, options, regionReports))
@@ -694,6 +699,8 @@ Document convertImage(const RgbaImage& image, const ObjectMask& mask, const Conv
             convertReport.regions.push_back(std::move(regionReport));
         }
     }
+    reportProgress(options, "regions", regionCount, regionCount);
+    reportProgress(options, "measure");
     convertReport.error = measure(doc, image, regionPixels(mask, regions));
     return doc;
 }

@@ -422,6 +422,7 @@ namespace {
 std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertOptions& options,
                                    const std::string& imageName, Segmentation& seg,
                                    SegmentConvertReport& segmentReport) {
+    reportProgress(options.convert, "segmentation");
     auto t0 = Clock::now();
     try {
         SegmentOptions segmentOptions = options.segment;
@@ -459,6 +460,7 @@ public:
         workers_ = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
                                              static_cast<int>(regions.size())));
         convert_ = options.convert;
+        convert_.progress = nullptr;  // regions done are counted here, not their stages
         if (workers_ > 1) convert_.threads = 1;
         drawnAt_.assign(static_cast<size_t>(image.width) * image.height, -1);
         for (size_t k = 0; k < regions.size(); ++k)
@@ -475,7 +477,10 @@ public:
              std::vector<RegionOutcome>& outcomes) {
         outcomes.resize(jobs.size());
         const bool budgeted = options_.totalPatches > 0;
-        parallelFor(static_cast<int>(jobs.size()), workers_, [&](int job, int) {
+        const int total = static_cast<int>(jobs.size());
+        std::atomic<int> done{0};
+        reportProgress(options_.convert, "regions", 0, total);
+        parallelFor(total, workers_, [&](int job, int) {
             const size_t w = static_cast<size_t>(job);
             ConvertOptions convertOptions = convert_;
             convertOptions.maxPatches = jobs[w].second;
@@ -485,6 +490,7 @@ public:
             if (budgeted && outcomes[w].converted())
                 outcomes[w].spill =
                     spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
+            reportProgress(options_.convert, "regions", ++done, total);
         });
     }
 
@@ -658,7 +664,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     }
     segmentReport.convertSeconds = since(t0);
 
+    reportProgress(options.convert, "assemble");
     Document doc = assembleDocument(image, regions, outcomes, options, segmentReport);
+    reportProgress(options.convert, "measure");
     t0 = Clock::now();
     measureSegmented(doc, image, seg.labels, segmentReport);
     segmentReport.measureSeconds = since(t0);

@@ -8,7 +8,8 @@ prefix=$work/prefix
 
 cmake --install "$build" --prefix "$prefix" >"$work/install.log"
 for f in bin/gradmesh libexec/gradmesh/gradmesh-imaging include/gradmesh/gradmesh.h lib/cmake/gradmesh/gradmeshConfig.cmake \
-         lib/pkgconfig/gradmesh.pc lib/libgradmesh_meshcore.a; do
+         lib/pkgconfig/gradmesh.pc lib/libgradmesh_meshcore.a share/man/man1/gradmesh.1 \
+         share/bash-completion/completions/gradmesh; do
   [ -e "$prefix/$f" ] || { echo "not installed: $f" >&2; exit 1; }
 done
 # Nothing installed may point back into the source or build tree.
@@ -16,6 +17,12 @@ if grep -rl -e "$src" -e "$build" "$prefix/lib/cmake" "$prefix/lib/pkgconfig"; t
   echo "the installed package refers to the source or build tree" >&2
   exit 1
 fi
+
+# The man page reads, and the completion defines its function for gradmesh.
+MANPATH="$prefix/share/man" LC_ALL=C.UTF-8 man -P cat gradmesh 2>/dev/null | grep -q -- "--output-dir" ||
+  { echo "man gradmesh does not show the installed page" >&2; exit 1; }
+bash -c "source '$prefix/share/bash-completion/completions/gradmesh' && complete -p gradmesh" | grep -q _gradmesh ||
+  { echo "the installed completion does not complete gradmesh" >&2; exit 1; }
 
 echo "== find_package(gradmesh)"
 cmake -S "$src/examples" -B "$work/cmake-build" -G Ninja -DCMAKE_BUILD_TYPE=Release \

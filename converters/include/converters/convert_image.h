@@ -3,6 +3,7 @@
 // M = grid+colours+refine, as in the paper's Table 1).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,13 @@
 #include "meshcore/image.h"
 
 namespace gm {
+
+// What a conversion says as it goes (ConvertOptions::progress): the stage it enters and, for
+// the stages over regions, how many are done of how many (total 0: not counted).
+struct ConvertProgress {
+    const char* stage = "";
+    int done = 0, total = 0;
+};
 
 struct ConvertOptions {
     double maxError = 3.0;        // target E per region, 0–255 units
@@ -35,7 +43,15 @@ struct ConvertOptions {
                                   // is tried again with the corners at the sharpest tips, then
                                   // in parts (keeping the better), for regions of at most
     int retryMaxPixels = 1 << 20; // this many pixels (a retry costs a whole conversion)
+    // Called at each stage and each region done (may be empty). Regions converted in parallel
+    // call it from their threads, at the same time: it must be thread-safe, and cheap.
+    std::function<void(const ConvertProgress&)> progress;
 };
+
+inline void reportProgress(const ConvertOptions& options, const char* stage, int done = 0,
+                           int total = 0) {
+    if (options.progress) options.progress(ConvertProgress{stage, done, total});
+}
 
 struct StageSeconds {
     double regions = 0, corners = 0, triangulate = 0, topology = 0, feature = 0, mesh = 0;

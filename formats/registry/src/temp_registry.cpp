@@ -28,6 +28,9 @@ extern "C" void removeTemporariesAndReraise(int sig) {
     const int savedErrno = errno;
     for (Slot& s : g_slots)
         if (s.state.load() == kLive) ::unlink(s.path);
+    // Then the private directories, emptied by the first pass.
+    for (Slot& s : g_slots)
+        if (s.state.load() == kLive) ::rmdir(s.path);
     // Default action on re-raise: the signal is blocked while this runs and is delivered when
     // the handler returns.
     std::signal(sig, SIG_DFL);
