@@ -20,7 +20,7 @@ struct FlatOptions {
     // errorShare times the conversion's error target. Border pixels are left out: in an
     // anti-aliased drawing they mix the region's colour with its neighbour's, which the shape's
     // anti-aliased outline reproduces.
-    double errorShare = 0.5;
+    double errorShare = 0.25;
     int minInterior = 8;
     double minInteriorShare = 0.25;
     // ... and when at most outlierShare of those pixels are further than outlierError times
