@@ -1,7 +1,7 @@
 // .gmb — the native binary format of gradmesh: the MeshFormat that the registry finds for
 // ".gmb" files. It sniffs the magic number and hands the bytes to decodeGmb (gmb_read.cpp) and
 // encodeGmb (gmb_write.cpp); with --legacy it writes every mesh as its hole-free pieces.
-// The format itself (versions 1.0 to 1.4 and 2.0, byte layouts, coding and reading limits) is
+// The format itself (versions 1.0 to 1.5, 2.0 and 2.1, byte layouts, coding and reading limits) is
 // specified in docs/formats.md, "gmb — the native binary format".
 #include <algorithm>
 

@@ -955,7 +955,7 @@ Document Decoder::run() {
     }
     meshName_.clear();
 
-    Section end = next({"SHAP", "END "});
+    Section end = next({"END ", "SHAP"});
     if (end.tag == "SHAP") {
         Payload p;
         open(end, limits_.maxFileBytes, p);
