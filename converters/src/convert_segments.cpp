@@ -514,7 +514,8 @@ private:
         RegionOutcome out;
         const Region& own = regions_[k];
         try {
-            out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap, drawnLater(k),
+            out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
+                                         drawnLaterOrNone(k),
                                          options_.flat)};
         } catch (const Error& e) {
             out.fallback = "as a flat shape: " + e.reason();
@@ -526,6 +527,15 @@ private:
         out.report.part = "flat";
         out.report.error = flat_[k].all;
         return out;
+    }
+
+    // ... and the pixels of no region (the base mesh paints them, beneath every shape): a flat
+    // shape covers such specks rather than leave holes around them.
+    std::vector<uint8_t> drawnLaterOrNone(size_t k) const {
+        std::vector<uint8_t> m(drawnAt_.size());
+        for (size_t p = 0; p < m.size(); ++p)
+            m[p] = drawnAt_[p] > static_cast<int>(k) || drawnAt_[p] < 0;
+        return m;
     }
 
     // Pixels of the regions drawn after region k.

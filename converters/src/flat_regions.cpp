@@ -365,7 +365,7 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     fillHolesUnder(grown, under, w, h);
     RegionOptions regionOptions;
     regionOptions.minArea = 1;
-    regionOptions.minHole = 1;
+    regionOptions.minHole = options.minHole;
     regionOptions.simplifyTolerance = 0.1;
     regionOptions.maxSegment = 1e6;
     regionOptions.smoothing = options.outlineSmoothing;
