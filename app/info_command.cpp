@@ -1,5 +1,6 @@
 #include "info_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
@@ -18,6 +19,15 @@ void printMesh(size_t k, const GradientMesh& m) {
                 m.rows(), m.patchCount(), m.holeCount(), legacyPieceCount(m));
     if (!m.tangents.empty()) std::printf(", %zu tangent breaks", m.tangents.size());
     std::printf("\n");
+}
+
+void printShape(size_t k, const FlatShape& s) {
+    size_t segments = 0;
+    for (const std::vector<Vec2>& path : s.subpaths) segments += path.size() / 3;
+    std::printf("shape %zu: flat #%02lx%02lx%02lx, opacity %.3g, %zu subpaths, %zu segments, "
+                "above %zu meshes\n",
+                k, std::lround(s.col.r * 255), std::lround(s.col.g * 255),
+                std::lround(s.col.b * 255), s.alpha, s.subpaths.size(), segments, s.layer);
 }
 
 }  // namespace
@@ -39,7 +49,9 @@ int infoCommand(const Args& a, const FormatRegistry& registry, const std::string
                 printableText(shownName.empty() ? in : shownName).c_str(), readerFor(registry, in)->name().c_str(),
                 static_cast<unsigned long long>(bytes), doc.width, doc.height, doc.meshes.size(),
                 patches, holes, pieces);
+    if (!doc.shapes.empty()) std::printf("flat shapes: %zu\n", doc.shapes.size());
     for (size_t k = 0; k < doc.meshes.size(); ++k) printMesh(k, doc.meshes[k]);
+    for (size_t k = 0; k < doc.shapes.size(); ++k) printShape(k, doc.shapes[k]);
     // A Hermite mesh's colour slopes are its own; the SVG carries the bicubic rule's, so
     // convert refits its colours: say how close that comes.
     if (hasHermiteMeshes(doc)) {

@@ -40,7 +40,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"grown\": " << segmentation.grown << ", \"merged\": " << segmentation.merged
       << ", \"failed\": " << report.failedRegions << ", \"holes_filled\": " << report.filledRegions
       << ", \"thin_parts_apart\": " << report.trimmedRegions
-      << ", \"split_at_necks\": " << report.splitRegions
+      << ", \"split_at_necks\": " << report.splitRegions << ", \"flat\": " << report.flatRegions
       << ", \"base_patches\": " << report.basePatches
       << ", \"region_uncovered\": " << num(report.regionUncovered)
       << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions

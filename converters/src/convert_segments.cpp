@@ -59,11 +59,13 @@ enum class RegionFate {
     HolesFilled,     // its holes filled (the slit map failed on them)
     ThinPartsApart,  // its core and its thin parts as meshes of their own
     SplitAtNecks,    // cut at its narrowest necks, each side converted on its own
+    Flat,            // one colour: a flat shape, no mesh
 };
 
 // How one region of a whole image was converted.
 struct RegionOutcome {
     std::vector<GradientMesh> meshes;
+    std::vector<FlatShape> shapes;  // Flat
     RegionReport report;
     std::string fallback;  // "" when converted whole at the first try
     RegionFate fate = RegionFate::Failed;
@@ -466,9 +468,25 @@ public:
         for (size_t k = 0; k < regions.size(); ++k)
             for (size_t p = 0; p < drawnAt_.size(); ++p)
                 if (regions[k].mask[p] && drawnAt_[p] < 0) drawnAt_[p] = static_cast<int>(k);
+        flat_.resize(regions.size());
+        if (options.flatShapes) {
+            // Per pixel the last region holding it: a hole under --min-hole that a region's
+            // mask fills is another region's, drawn on top of it.
+            std::vector<int> lastAt(drawnAt_.size(), -1);
+            for (size_t k = 0; k < regions.size(); ++k)
+                for (size_t p = 0; p < lastAt.size(); ++p)
+                    if (regions[k].mask[p]) lastAt[p] = static_cast<int>(k);
+            parallelFor(static_cast<int>(regions.size()), workers_, [&](int k, int) {
+                Region own = regions[static_cast<size_t>(k)];
+                for (size_t p = 0; p < own.mask.size(); ++p) own.mask[p] = lastAt[p] == k;
+                flat_[static_cast<size_t>(k)] =
+                    fitFlatColour(image, own, options.convert.maxError, options.flat);
+            });
+        }
     }
 
     int maxPatches() const { return convert_.maxPatches; }
+    bool isFlat(size_t k) const { return flat_[k].flat; }
 
     // Converts region jobs[w].first with patch budget jobs[w].second into outcomes[w], the
     // jobs in parallel. With --total-patches a region converted at several budgets computes
@@ -483,8 +501,9 @@ public:
         parallelFor(total, workers_, [&](int job, int) {
             const size_t w = static_cast<size_t>(job);
             ConvertOptions convertOptions = convert_;
-            convertOptions.maxPatches = jobs[w].second;
+            convertOptions.maxPatches = jobs[w].second > 0 ? jobs[w].second : convert_.maxPatches;
             const size_t k = jobs[w].first;
+            if (isFlat(k) && (outcomes[w] = flatOutcome(k)).converted()) return;
             outcomes[w] = convertSegmentRegion(image_, regions_[k], drawnLater(k), convertOptions,
                                                options_, 0, budgeted ? &caches_[k] : nullptr);
             if (budgeted && outcomes[w].converted())
@@ -495,6 +514,36 @@ public:
     }
 
 private:
+    // Region k as a flat shape reaching under the later regions; Failed (the reason in
+    // `fallback`) when its outline cannot be traced.
+    RegionOutcome flatOutcome(size_t k) const {
+        RegionOutcome out;
+        const Region& own = regions_[k];
+        try {
+            out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
+                                         drawnLaterOrNone(k),
+                                         options_.flat)};
+        } catch (const Error& e) {
+            out.fallback = "as a flat shape: " + e.reason();
+            return out;
+        }
+        out.fate = RegionFate::Flat;
+        out.report.pixels = own.pixelCount;
+        out.report.holes = static_cast<int>(own.holes.size());
+        out.report.part = "flat";
+        out.report.error = flat_[k].all;
+        return out;
+    }
+
+    // ... and the pixels of no region (the base mesh paints them, beneath every shape): a flat
+    // shape covers such specks rather than leave holes around them.
+    std::vector<uint8_t> drawnLaterOrNone(size_t k) const {
+        std::vector<uint8_t> m(drawnAt_.size());
+        for (size_t p = 0; p < m.size(); ++p)
+            m[p] = drawnAt_[p] > static_cast<int>(k) || drawnAt_[p] < 0;
+        return m;
+    }
+
     // Pixels of the regions drawn after region k.
     std::vector<uint8_t> drawnLater(size_t k) const {
         std::vector<uint8_t> m(drawnAt_.size());
@@ -509,6 +558,7 @@ private:
     int workers_ = 1;
     std::vector<int> drawnAt_;  // per pixel: the first region (in drawing order) holding it
     std::vector<RegionMapCache> caches_;
+    std::vector<FlatFit> flat_;  // per region: its colour and whether it is flat
 };
 
 // --total-patches: every region at the budget ladder up to a generous budget, to measure its
@@ -527,6 +577,10 @@ std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
                              double(regions[k].pixelCount) / double(std::max(1L, pixels));
         const double floor = options.topBudgetShare * options.totalPatches / double(n);
         const double want = std::max(share, floor);
+        if (converter.isFlat(k)) {
+            jobs.push_back({k, 0});  // one flat shape, no patches
+            continue;
+        }
         for (int i = 0;; ++i) {
             const int b = std::min(budgetRung(i), converter.maxPatches());
             jobs.push_back({k, b});
@@ -592,6 +646,11 @@ Document assembleDocument(const RgbaImage& image, const std::vector<Region>& reg
         RegionOutcome& o = outcomes[k];
         if (o.converted())
             for (GradientMesh& m : o.meshes) doc.meshes.push_back(std::move(m));
+        for (FlatShape& shape : o.shapes) {
+            shape.layer = doc.meshes.size();
+            doc.shapes.push_back(std::move(shape));
+        }
+        segmentReport.flatRegions += o.fate == RegionFate::Flat;
         segmentReport.failedRegions += o.fate == RegionFate::Failed;
         segmentReport.filledRegions += o.fate == RegionFate::HolesFilled;
         segmentReport.trimmedRegions += o.fate == RegionFate::ThinPartsApart;
@@ -628,8 +687,9 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
     segmentReport.interior = compareOverMask(image, full.image, inner);
     Document regionsOnly = doc;
     regionsOnly.meshes.erase(regionsOnly.meshes.begin());
+    for (FlatShape& shape : regionsOnly.shapes) shape.layer = std::max<size_t>(1, shape.layer) - 1;
     segmentReport.regionUncovered =
-        regionsOnly.meshes.empty()
+        regionsOnly.meshes.empty() && regionsOnly.shapes.empty()
             ? 1.0
             : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all)
                   .uncovered;

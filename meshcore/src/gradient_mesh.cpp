@@ -31,8 +31,13 @@ bool operator==(const GradientMesh& a, const GradientMesh& b) {
            a.tangents == b.tangents && a.colorModel == b.colorModel;
 }
 
+bool operator==(const FlatShape& a, const FlatShape& b) {
+    return a.col == b.col && a.alpha == b.alpha && a.subpaths == b.subpaths && a.layer == b.layer;
+}
+
 bool operator==(const Document& a, const Document& b) {
-    return a.width == b.width && a.height == b.height && a.meshes == b.meshes;
+    return a.width == b.width && a.height == b.height && a.meshes == b.meshes &&
+           a.shapes == b.shapes;
 }
 
 PatchHermite patchHermite(const GradientMesh& mesh, int i, int j) {

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <string>
 #include <thread>
@@ -322,7 +323,8 @@ int outputSide(int canvas, double scale) {
 }
 
 RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int canvasWidth,
-                          int canvasHeight, const RenderOptions& options) {
+                          int canvasHeight, const RenderOptions& options,
+                          const std::vector<FlatShape>& shapes = {}) {
     if (!(options.scale > 0) || !std::isfinite(options.scale))
         throw Error("render scale must be a positive number, not " + std::to_string(options.scale));
     for (size_t m = 0; m < meshes.size(); ++m) checkStructure(*meshes[m], m);
@@ -339,8 +341,16 @@ RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int ca
     int threads = options.threads;
     if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     Target target{&result.image, options.wantSamples ? &result.samples : nullptr, threads};
-    for (size_t m = 0; m < meshes.size(); ++m)
+    size_t nextShape = 0;
+    auto shapesUpTo = [&](size_t layer) {
+        for (; nextShape < shapes.size() && shapes[nextShape].layer <= layer; ++nextShape)
+            renderShape(shapes[nextShape], options, result.image, target.samples);
+    };
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        shapesUpTo(m);
         renderLayer(*meshes[m], static_cast<int>(m), options, target);
+    }
+    shapesUpTo(SIZE_MAX);
     result.triangles = target.triangles;
     return result;
 }
@@ -350,7 +360,7 @@ RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int ca
 RenderResult renderDocument(const Document& doc, const RenderOptions& options) {
     std::vector<const GradientMesh*> meshes;
     for (const GradientMesh& m : doc.meshes) meshes.push_back(&m);
-    return renderMeshes(meshes, doc.width, doc.height, options);
+    return renderMeshes(meshes, doc.width, doc.height, options, doc.shapes);
 }
 
 RenderResult renderMesh(const GradientMesh& mesh, int canvasWidth, int canvasHeight,

@@ -12,9 +12,9 @@ namespace {
 
 constexpr int kMaxOutlineSegments = 4096;  // per boundary curve
 
-// Appends the cubic Bézier q0..q3 (without q0, which the previous curve ended on) flattened so
-// that no chord strays more than `tolerance` from the curve: |B''| ≤ 6·max|Δ²q| and a chord
-// over a parameter step h errs by at most |B''|h²/8.
+}  // namespace
+
+// |B''| ≤ 6·max|Δ²q| and a chord over a parameter step h errs by at most |B''|h²/8.
 void flattenCubic(Vec2 q0, Vec2 q1, Vec2 q2, Vec2 q3, double tolerance, std::vector<Vec2>& out) {
     const double m2 = 6 * std::max(norm(q0 - 2 * q1 + q2), norm(q1 - 2 * q2 + q3));
     double nd = std::ceil(std::sqrt(m2 / (8 * tolerance)));
@@ -27,6 +27,8 @@ void flattenCubic(Vec2 q0, Vec2 q1, Vec2 q2, Vec2 q3, double tolerance, std::vec
     }
     out.push_back(q3);
 }
+
+namespace {
 
 // The boundary curve of patch (i,j) on one side, as Bézier control points in output pixels.
 // side 0: t=0 (s increasing), 1: t=1, 2: s=0 (t increasing), 3: s=1.

@@ -96,6 +96,10 @@ struct Tessellation {
 };
 void tessellatePatch(const PreparedMesh& mesh, int patch, Tessellation& out);
 
+// Appends the cubic Bézier q0..q3 (without q0, which the previous curve ended on) flattened so
+// that no chord strays more than `tolerance` from the curve.
+void flattenCubic(Vec2 q0, Vec2 q1, Vec2 q2, Vec2 q3, double tolerance, std::vector<Vec2>& out);
+
 // Closed polylines of the mesh outline (outer loop, then one loop per slit), output pixels.
 // Loops are oriented consistently: the hole loops wind opposite to the outer loop wherever the
 // mesh does not fold, so that nonzero-winding coverage leaves holes empty.
@@ -131,6 +135,12 @@ struct LayerSample {
 // none, so that slivers thinner than a pixel still have a colour to lend to their outline.
 void rasterizeTriangle(const TessVertex& a, const TessVertex& b, const TessVertex& c, int patch,
                        const LayerRows& band, LayerSample* samples, uint8_t* kinds);
+
+// Paints a flat shape (anti-aliased, nonzero rule) over the image. When `samples` is not null
+// (one per image pixel), the pixels the shape covers opaquely lose their mesh sample: no mesh
+// shows there.
+void renderShape(const FlatShape& shape, const RenderOptions& options, RgbaImage& image,
+                 std::vector<PixelSample>* samples);
 
 }  // namespace render_detail
 }  // namespace gm

@@ -90,4 +90,57 @@ Document makeDemoDocument() {
     return doc;
 }
 
+namespace {
+
+// A circle as four cubics, clockwise on screen (y down) or, `reverse`, counter-clockwise.
+std::vector<Vec2> circlePath(double cx, double cy, double r, bool reverse) {
+    constexpr double kappa = 0.5522847498307936;
+    const Vec2 c{cx, cy};
+    const Vec2 dirs[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    std::vector<Vec2> path;
+    for (int k = 0; k < 4; ++k) {
+        const int a = reverse ? (4 - k) % 4 : k, b = reverse ? (7 - k) % 4 : (k + 1) % 4;
+        const Vec2 p0 = c + r * dirs[a], p1 = c + r * dirs[b];
+        path.insert(path.end(), {p0, p0 + (kappa * r) * dirs[b], p1 + (kappa * r) * dirs[a]});
+    }
+    return path;
+}
+
+// An axis-aligned square of lines (handles at thirds), clockwise or counter-clockwise.
+std::vector<Vec2> squarePath(double x0, double y0, double side, bool reverse) {
+    std::vector<Vec2> corners = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+    if (reverse) std::swap(corners[1], corners[3]);
+    std::vector<Vec2> path;
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 a = corners[static_cast<size_t>(k)], b = corners[static_cast<size_t>((k + 1) % 4)];
+        path.insert(path.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
+    }
+    return path;
+}
+
+}  // namespace
+
+FlatShape makeFlatRing(double cx, double cy, double outer, double inner, Vec3 col, size_t layer) {
+    FlatShape s;
+    s.col = col;
+    s.layer = layer;
+    s.subpaths = {circlePath(cx, cy, outer, false), circlePath(cx, cy, inner, true)};
+    return s;
+}
+
+Document makeFlatDocument() {
+    Document d;
+    d.width = 240;
+    d.height = 180;
+    d.meshes.push_back(makeCurvedMesh(4, 3, 0, 0, 240, 180, 0.0, 3));
+    d.shapes.push_back(makeFlatRing(90.3, 85.6, 62.2, 27.5, {0.85, 0.1, 0.15}, 1));
+    d.meshes.push_back(makeCurvedMesh(3, 3, 130, 40, 90, 110, 0.5, 5));
+    FlatShape square;
+    square.col = {0.1, 0.3, 0.9};
+    square.layer = 2;
+    square.subpaths = {squarePath(20.25, 110.5, 60, false), squarePath(40.5, 130.75, 20, true)};
+    d.shapes.push_back(square);
+    return d;
+}
+
 }  // namespace gm

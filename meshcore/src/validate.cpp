@@ -121,6 +121,27 @@ std::string coordinateProblem(const Document& doc) {
     for (size_t k = 0; k < doc.meshes.size(); ++k)
         if (auto e = coordinateProblem(doc.meshes[k]); !e.empty())
             return "mesh " + std::to_string(k) + ": " + e;
+    for (size_t k = 0; k < doc.shapes.size(); ++k)
+        for (const std::vector<Vec2>& path : doc.shapes[k].subpaths)
+            for (const Vec2& p : path)
+                if (!(std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate))
+                    return "shape " + std::to_string(k) +
+                           ": a point lies beyond the coordinate limit of 1e7 pixels";
+    return {};
+}
+
+std::string validateShape(const FlatShape& shape, size_t meshCount) {
+    auto unit = [](double x) { return x >= 0 && x <= 1; };
+    if (!unit(shape.col.r) || !unit(shape.col.g) || !unit(shape.col.b) || !unit(shape.alpha))
+        return "colour or opacity outside 0-1";
+    if (shape.layer > meshCount) return "painted above a mesh that does not exist";
+    if (shape.subpaths.empty()) return "no outline";
+    for (const std::vector<Vec2>& path : shape.subpaths) {
+        if (path.empty() || path.size() % 3 != 0)
+            return "a subpath's point count is not a positive multiple of 3";
+        for (const Vec2& p : path)
+            if (!std::isfinite(p.x) || !std::isfinite(p.y)) return "a point is not finite";
+    }
     return {};
 }
 
@@ -131,6 +152,12 @@ std::string validateDocument(const Document& doc) {
     for (size_t k = 0; k < doc.meshes.size(); ++k)
         if (auto e = validateMesh(doc.meshes[k]); !e.empty())
             return "mesh " + std::to_string(k) + ": " + e;
+    for (size_t k = 0; k < doc.shapes.size(); ++k) {
+        if (auto e = validateShape(doc.shapes[k], doc.meshes.size()); !e.empty())
+            return "shape " + std::to_string(k) + ": " + e;
+        if (k > 0 && doc.shapes[k].layer < doc.shapes[k - 1].layer)
+            return "shape " + std::to_string(k) + ": painted below the shape before it";
+    }
     return {};
 }
 

@@ -216,6 +216,8 @@ PYBIND11_MODULE(_gradmesh, m) {
         .def_property_readonly("height", [](const PyDocument& d) { return d.doc.height; })
         .def_property_readonly("meshes", [](const PyDocument& d) { return d.doc.meshes.size(); },
                                "number of meshes")
+        .def_property_readonly("shapes", [](const PyDocument& d) { return d.doc.shapes.size(); },
+                               "number of flat shapes (regions of one colour)")
         .def_property_readonly("patches", [](const PyDocument& d) { return patchCount(d.doc); })
         .def_property_readonly("holes", [](const PyDocument& d) { return holeCount(d.doc); })
         .def_property_readonly("report", &report,

@@ -58,7 +58,9 @@ TEST_CASE("a segmented scene converts with every pixel painted and its ring keep
     CHECK(rep.convert.regions.size() <= 8);
     CHECK(rep.failedRegions == 0);
     CHECK(rep.filledRegions == 0);
-    REQUIRE(doc.meshes.size() == rep.convert.regions.size() + 1);  // + the base mesh
+    // A mesh or a flat shape per region, + the base mesh.
+    REQUIRE(doc.meshes.size() + doc.shapes.size() == rep.convert.regions.size() + 1);
+    CHECK(doc.shapes.size() == static_cast<size_t>(rep.flatRegions));
     // Every pixel painted; the regions alone paint all but a few (where the base shows).
     CHECK(rep.convert.error.uncovered == 0);
     CHECK(rep.regionUncovered < 0.002);

@@ -763,7 +763,7 @@ inline std::vector<Malformed> malformedCorpus() {
                    "CMS3 holds 2 meshes, but the document has only 1 more"});
     out.push_back({"v2-unknown-required-section.gmb",
                    v2Docu(v2Dims(64, 48, 2)) + section2("XTRA", "data") + v2Rest,
-                   "unknown required section 'XTRA' (file version 2.0; this reader knows 1.4 and 2.0)"});
+                   "unknown required section 'XTRA' (file version 2.0; this reader knows 1.5 and 2.1)"});
     out.push_back({"v2-crc-mismatch.gmb",
                    [&] {
                        std::string s = v2;

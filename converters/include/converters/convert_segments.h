@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "converters/convert_image.h"
+#include "converters/flat_regions.h"
 #include "converters/neck.h"
 #include "converters/segment.h"
 
@@ -65,6 +66,10 @@ struct SegmentConvertOptions {
     // rises with the total. --max-error still stops each region.
     int totalPatches = 0;
     double topBudgetShare = 2;
+    // Regions of one colour (fitFlatColour against convert.maxError) become flat shapes
+    // (Document::shapes) in their place in the drawing order instead of meshes.
+    bool flatShapes = true;
+    FlatOptions flat;
 };
 
 struct SegmentConvertReport {
@@ -77,6 +82,7 @@ struct SegmentConvertReport {
     int trimmedRegions = 0;      // converted as their core without the parts thinner than 5 (or
                                  // 11) px, and those parts as meshes of their own
     int splitRegions = 0;        // cut at necks, each side converted on its own
+    int flatRegions = 0;         // flat shapes instead of meshes (part "flat")
     int basePatches = 0;
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment

@@ -1,3 +1,4 @@
+#include <cstdint>
 #include <string>
 
 #include "formats/eps.h"
@@ -27,7 +28,13 @@ std::string epsDocument(const Document& doc, const WriteOptions& options) {
     ps += "4 dict begin\n";
     // Canvas y runs down, PostScript y up.
     ps += "0 " + h + " translate 1 -1 scale\n";
+    size_t nextShape = 0;  // flat shapes go between the shadings in their paint order
+    auto shapesUpTo = [&](size_t layer) {
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
+            ps += shapeFillOperators(doc.shapes[nextShape], kPostScriptPathOperators);
+    };
     for (const MeshShading& shading : buildMeshShadings(doc, options)) {
+        shapesUpTo(shading.source);
         if (options.textShading) {
             for (size_t first = 0; first < shading.patches.size(); first += kTextPatchesPerArray) {
                 ps += "<< /ShadingType 7 /ColorSpace /DeviceRGB /DataSource [\n";
@@ -45,6 +52,7 @@ std::string epsDocument(const Document& doc, const WriteOptions& options) {
             ps += ascii85Encode(deflateBytes(binary.data));
         }
     }
+    shapesUpTo(SIZE_MAX);
     ps += "end\n";
     ps += "restore\n";
     ps += "showpage\n";
@@ -71,6 +79,11 @@ public:
         if (!problem.empty()) throw Error("cannot write an invalid document: " + problem, path);
         if (const std::string e = coordinateProblem(doc); !e.empty())
             throw Error("cannot write: " + e, path);
+        for (size_t k = 0; k < doc.shapes.size(); ++k)
+            if (doc.shapes[k].alpha < 1)
+                throw Error("cannot write: shape " + std::to_string(k) +
+                                " is translucent, which PostScript cannot paint (write PDF or SVG)",
+                            path);
         return epsDocument(doc, options);
     }
 };

@@ -1,7 +1,7 @@
 // .gmb — the native binary format of gradmesh: the MeshFormat that the registry finds for
 // ".gmb" files. It sniffs the magic number and hands the bytes to decodeGmb (gmb_read.cpp) and
 // encodeGmb (gmb_write.cpp); with --legacy it writes every mesh as its hole-free pieces.
-// The format itself (versions 1.0 to 1.4 and 2.0, byte layouts, coding and reading limits) is
+// The format itself (versions 1.0 to 1.5, 2.0 and 2.1, byte layouts, coding and reading limits) is
 // specified in docs/formats.md, "gmb — the native binary format".
 #include <algorithm>
 
@@ -36,10 +36,18 @@ public:
                        const WriteOptions& options) const override {
         try {
             if (!options.legacy) return encodeGmb(doc, options.compact, options.compactLevel);
-            Document pieces{doc.width, doc.height, {}};
-            for (const GradientMesh& m : doc.meshes)
+            Document pieces;
+            pieces.width = doc.width;
+            pieces.height = doc.height;
+            std::vector<size_t> piecesBefore{0};  // per mesh index: the pieces of those before
+            for (const GradientMesh& m : doc.meshes) {
                 for (GradientMesh& piece : splitIntoLegacyMeshes(m))
                     pieces.meshes.push_back(std::move(piece));
+                piecesBefore.push_back(pieces.meshes.size());
+            }
+            pieces.shapes = doc.shapes;
+            for (FlatShape& s : pieces.shapes)
+                s.layer = piecesBefore[std::min(s.layer, piecesBefore.size() - 1)];
             return encodeGmb(pieces, options.compact, options.compactLevel);
         } catch (const Error& e) {
             if (!e.file().empty()) throw;

@@ -10,6 +10,7 @@
 #include "formats/gmb.h"
 #include "gmb_node_planes.h"
 #include "gmb_pvt.h"
+#include "gmb_shapes.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/validate.h"
@@ -39,7 +40,7 @@ constexpr uint64_t kMinMeshSections = 3 * kSectionOverhead;
 
 bool isKnownTag(const std::string& t) {
     return t == "DOCU" || t == "MESH" || t == "KNOT" || t == "NODE" || t == "SLIT" ||
-           t == "TANG" || t == "CMSH" || t == "CMS2" || t == "CMS3" || t == "END ";
+           t == "TANG" || t == "CMSH" || t == "CMS2" || t == "CMS3" || t == "SHAP" || t == "END ";
 }
 
 // Tags may be any bytes in a hostile file; print them readably.
@@ -296,8 +297,8 @@ Section Decoder::next(std::initializer_list<const char*> tags) {
         }
         if (!(s.flags & kSectionOptional))
             fail("unknown required section '" + name + "' (file version " + fileVersion() +
-                     "; this reader knows 1." + std::to_string(kMinor) + " and " +
-                     std::to_string(kMajorShort) + "." + std::to_string(kMinorShort) + ")",
+                     "; this reader knows 1." + std::to_string(kMinorShapes) + " and " +
+                     std::to_string(kMajorShort) + "." + std::to_string(kMinorShortShapes) + ")",
                  s.start);
     }
 }
@@ -954,7 +955,15 @@ Document Decoder::run() {
     }
     meshName_.clear();
 
-    const Section end = next({"END "});
+    Section end = next({"END ", "SHAP"});
+    if (end.tag == "SHAP") {
+        Payload p;
+        open(end, limits_.maxFileBytes, p);
+        doc.shapes = decodeShapes(p.reader, limits_.maxMeshes,
+                                  [this](ByteReader& r, uint64_t bytes) { charge(r, bytes); });
+        finish(p, end);
+        end = next({"END "});
+    }
     if (end.stored != 0 || end.raw != 0) fail("the END section must be empty", end.start);
     if (pos_ != bytes_.size())
         fail(std::to_string(bytes_.size() - pos_) + " bytes after the END section", pos_);

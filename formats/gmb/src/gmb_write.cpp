@@ -7,6 +7,7 @@
 #include "formats/gmb.h"
 #include "gmb_node_planes.h"
 #include "gmb_pvt.h"
+#include "gmb_shapes.h"
 #include "meshcore/color_rule.h"
 #include "meshcore/error.h"
 #include "meshcore/validate.h"
@@ -476,10 +477,13 @@ std::string encodeGmb(const Document& doc, bool compact, int compactLevel, GmbSt
         if (!m.tangents.empty()) out.add("TANG", p.tang, compact);
         ++k;
     }
+    if (!doc.shapes.empty()) out.add("SHAP", encodeShapes(doc.shapes, compact), compact);
     out.add("END ", std::string(), false);
     std::string bytes = out.take();
     if (anyCms3 && !out.shortFraming())
         bytes[10] = static_cast<char>(kMinor);  // the minor version, little-endian
+    if (!doc.shapes.empty())
+        bytes[10] = static_cast<char>(out.shortFraming() ? kMinorShortShapes : kMinorShapes);
     return bytes;
 }
 

@@ -7,10 +7,11 @@
 namespace gm {
 
 namespace {
-void appendMesh(const GradientMesh& mesh, double tolerance, double minPiece,
+void appendMesh(const GradientMesh& mesh, size_t source, double tolerance, double minPiece,
                 std::vector<MeshShading>& out) {
     if (mesh.patchCount() == 0) return;
     MeshShading shading;
+    shading.source = source;
     shading.patches.reserve(static_cast<size_t>(mesh.patchCount()));
     for (int j = 0; j < mesh.rows(); ++j) {
         for (int i = 0; i < mesh.columns(); ++i) {
@@ -32,12 +33,13 @@ std::vector<MeshShading> buildMeshShadings(const Document& doc, const WriteOptio
     // A tolerance below what 16-bit colour can carry would only multiply patches.
     const double tolerance = std::max(options.colorTolerance, 1.0 / 65535.0);
     std::vector<MeshShading> shadings;
-    for (const GradientMesh& mesh : doc.meshes) {
+    for (size_t m = 0; m < doc.meshes.size(); ++m) {
+        const GradientMesh& mesh = doc.meshes[m];
         if (options.legacy) {
             for (const GradientMesh& piece : splitIntoLegacyMeshes(mesh))
-                appendMesh(piece, tolerance, options.minPiece, shadings);
+                appendMesh(piece, m, tolerance, options.minPiece, shadings);
         } else {
-            appendMesh(mesh, tolerance, options.minPiece, shadings);
+            appendMesh(mesh, m, tolerance, options.minPiece, shadings);
         }
     }
     return shadings;

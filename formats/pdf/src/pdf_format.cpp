@@ -1,3 +1,4 @@
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -58,10 +59,26 @@ std::string pdfDocument(const Document& doc, const WriteOptions& options) {
     PdfBuilder pdf;
     const int catalog = pdf.reserve(), pages = pdf.reserve(), page = pdf.reserve(),
               contents = pdf.reserve();
-    std::string shadingResources, paint;
+    std::string shadingResources, stateResources, paint;
     // Canvas y runs down, PDF y up.
     paint = "q 1 0 0 -1 0 " + h + " cm\n";
+    // Flat shapes between the shadings in their paint order; a translucent one through a
+    // graphics state of its own.
+    size_t nextShape = 0;
+    auto shapesUpTo = [&](size_t layer) {
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape) {
+            const FlatShape& shape = doc.shapes[nextShape];
+            if (shape.alpha >= 1) {
+                paint += shapeFillOperators(shape, kPdfPathOperators);
+                continue;
+            }
+            const std::string name = "/GS" + std::to_string(nextShape);
+            stateResources += name + " << /ca " + formatDecimal(shape.alpha, 4) + " >> ";
+            paint += "q " + name + " gs\n" + shapeFillOperators(shape, kPdfPathOperators) + "Q\n";
+        }
+    };
     for (size_t n = 0; n < shadings.size(); ++n) {
+        shapesUpTo(shadings[n].source);
         const BinaryShading binary = encodeShadingBinary(shadings[n]);
         const int object = pdf.reserve();
         pdf.stream(object, binaryShadingEntries(binary) + " /Filter /FlateDecode",
@@ -70,12 +87,14 @@ std::string pdfDocument(const Document& doc, const WriteOptions& options) {
         shadingResources += name + " " + PdfBuilder::ref(object) + " ";
         paint += name + " sh\n";
     }
+    shapesUpTo(SIZE_MAX);
     paint += "Q\n";
     pdf.object(catalog, "<< /Type /Catalog /Pages " + PdfBuilder::ref(pages) + " >>");
     pdf.object(pages, "<< /Type /Pages /Kids [" + PdfBuilder::ref(page) + "] /Count 1 >>");
     pdf.object(page, "<< /Type /Page /Parent " + PdfBuilder::ref(pages) + " /MediaBox [0 0 " + w +
-                         " " + h + "] /Resources << /Shading << " + shadingResources +
-                         ">> >> /Contents " + PdfBuilder::ref(contents) + " >>");
+                         " " + h + "] /Resources << /Shading << " + shadingResources + ">>" +
+                         (stateResources.empty() ? "" : " /ExtGState << " + stateResources + ">>") +
+                         " >> /Contents " + PdfBuilder::ref(contents) + " >>");
     pdf.stream(contents, "", paint);
     return pdf.finish(catalog);
 }

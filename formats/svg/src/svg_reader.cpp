@@ -15,6 +15,7 @@
 #include "meshcore/error.h"
 #include "meshcore/validate.h"
 #include "svg_patch_grid.h"
+#include "svg_shapes.h"
 
 namespace gm {
 
@@ -501,6 +502,9 @@ void parseXml(tinyxml2::XMLDocument& xml, const std::string& bytes, const std::s
 struct ElementIndex {
     std::unordered_map<std::string, const XMLElement*> byId;
     std::vector<const XMLElement*> painted, meshes;
+    // <path>s filled with a plain colour (flat shapes), each with the number of `painted`
+    // elements before it in document order.
+    std::vector<std::pair<const XMLElement*, size_t>> flat;
 };
 
 ElementIndex indexElements(const XMLElement* root) {
@@ -514,7 +518,12 @@ ElementIndex indexElements(const XMLElement* root) {
             index.meshes.push_back(el);
             continue;
         }
-        if (!Reader::urlTarget(Reader::property(el, "fill")).empty()) index.painted.push_back(el);
+        const std::string fill = Reader::property(el, "fill");
+        Vec3 colour;
+        if (!Reader::urlTarget(fill).empty())
+            index.painted.push_back(el);
+        else if (isNamed(el, "path") && parseHexColour(fill, colour))
+            index.flat.emplace_back(el, index.painted.size());
         std::vector<const XMLElement*> children;
         for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
             children.push_back(c);
@@ -565,7 +574,8 @@ std::vector<MeshUse> meshUses(const ElementIndex& index, const ReadLimits& limit
     }
     if (uses.empty())
         for (const XMLElement* m : index.meshes) uses.push_back({m, nullptr});
-    if (uses.empty()) throw Error("SVG has no meshgradient", fileName);
+    if (uses.empty() && index.flat.empty())
+        throw Error("SVG has no meshgradient nor flat path", fileName);
     if (uses.size() > limits.maxMeshes)
         throw Error("SVG has " + std::to_string(uses.size()) + " meshes, over the limit", fileName);
     return uses;
@@ -594,20 +604,60 @@ std::vector<const XMLElement*> hrefChain(const XMLElement* paint, const ElementI
 
 // The transform from the gradient's space to the canvas: its gradientTransform, the shape's
 // own transform and its ancestors' (user space of the root), and the viewBox's shift.
+// The transform of a shape's user space to the root's: its own and its ancestors' transforms.
+Affine shapeTransform(const XMLElement* shape, const XMLElement* root, Reader& rd) {
+    std::vector<const XMLElement*> up;
+    for (const tinyxml2::XMLNode* n = shape; n && n->ToElement(); n = n->Parent())
+        up.push_back(n->ToElement());
+    Affine ctm;
+    for (auto it = up.rbegin(); it != up.rend(); ++it)
+        if (*it != root) ctm = compose(ctm, rd.transformAttribute(*it, "transform"));
+    return ctm;
+}
+
 Affine gradientToCanvas(const MeshUse& use, const XMLElement* transformEl, const XMLElement* root,
                         const Affine& viewBoxShift, Reader& rd) {
     Affine t;
     if (transformEl) t = rd.transformAttribute(transformEl, "gradientTransform");
-    if (use.shape) {
-        std::vector<const XMLElement*> up;
-        for (const tinyxml2::XMLNode* n = use.shape; n && n->ToElement(); n = n->Parent())
-            up.push_back(n->ToElement());
-        Affine ctm;
-        for (auto it = up.rbegin(); it != up.rend(); ++it)
-            if (*it != root) ctm = compose(ctm, rd.transformAttribute(*it, "transform"));
-        t = compose(ctm, t);
-    }
+    if (use.shape) t = compose(shapeTransform(use.shape, root, rd), t);
     return compose(viewBoxShift, t);
+}
+
+// The most points all flat paths of a file may have together (each is 16 bytes in memory).
+constexpr size_t kMaxFlatPoints = size_t(1) << 24;
+
+// A <path> filled with a plain colour as a flat shape (nonzero rule; fill-opacity as its
+// alpha), its points carried to the canvas; `layer` as FlatShape::layer.
+FlatShape readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root,
+                       const Canvas& canvas, size_t& points, Reader& rd) {
+    FlatShape shape;
+    shape.layer = layer;
+    parseHexColour(Reader::property(el, "fill"), shape.col);
+    const std::string opacity = Reader::property(el, "fill-opacity");
+    if (!opacity.empty()) {
+        char* end = nullptr;
+        const double a = std::strtod(opacity.c_str(), &end);
+        if (end == opacity.c_str() || *end || !(a >= 0 && a <= 1))
+            rd.fail("fill-opacity is not a number in 0-1", el);
+        shape.alpha = a;
+    }
+    const char* d = el->Attribute("d");
+    std::string problem;
+    if (!parseShapePathData(d ? d : "", SvgReadLimits::maxCoordinate,
+                            kMaxFlatPoints - std::min(points, kMaxFlatPoints), shape.subpaths,
+                            problem))
+        rd.fail(problem, el);
+    const Affine t = compose(canvas.viewBoxShift, shapeTransform(el, root, rd));
+    for (std::vector<Vec2>& path : shape.subpaths) {
+        points += path.size();
+        for (Vec2& p : path) {
+            p = t.apply(p);
+            if (!(std::fabs(p.x) <= SvgReadLimits::maxCoordinate &&
+                  std::fabs(p.y) <= SvgReadLimits::maxCoordinate))
+                rd.fail("path coordinates reach beyond the limit of 1e7 after its transforms", el);
+        }
+    }
+    return shape;
 }
 
 // One use's mesh. Attributes come from the first gradient of the href chain that has them; the
@@ -700,12 +750,21 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     const std::vector<MeshUse> uses = meshUses(index, limits, fileName);
     Document doc;
     uint64_t patches = 0;
-    for (const MeshUse& use : uses)
+    std::vector<size_t> usesBefore(index.painted.size() + 1, 0);  // per painted-element count
+    for (const MeshUse& use : uses) {
         doc.meshes.push_back(
             readMeshUse(use, index, root, canvas, limits, uses.size(), patches, rd, fileName));
+        for (size_t k = 0; k < index.painted.size(); ++k)
+            if (index.painted[k] == use.shape) ++usesBefore[k + 1];
+    }
+    for (size_t k = 0; k < index.painted.size(); ++k) usesBefore[k + 1] += usesBefore[k];
+    size_t points = 0;
+    for (const auto& [el, painted] : index.flat)
+        if (el->Attribute("d"))
+            doc.shapes.push_back(readFlatPath(el, usesBefore[painted], root, canvas, points, rd));
     setDocumentSize(doc, canvas, limits, fileName);
     const std::string problem = validateDocument(doc);
-    if (!problem.empty()) throw Error("meshes read are not valid: " + problem, fileName);
+    if (!problem.empty()) throw Error("meshes and shapes read are not valid: " + problem, fileName);
     return doc;
 }
 

@@ -14,6 +14,7 @@
 #include "meshcore/validate.h"
 #include "svg_fallback_layer.h"
 #include "svg_number.h"
+#include "svg_shapes.h"
 #include "svg_script.h"
 #include "svg_patch_grid.h"
 
@@ -484,18 +485,21 @@ void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& i
 struct SvgPiece {
     GradientMesh mesh;
     PieceSeams seams;
+    size_t source = 0;  // the document's mesh it came from
 };
 
 std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
     std::vector<SvgPiece> pieces;
-    for (const GradientMesh& mesh : doc.meshes) {
+    for (size_t m = 0; m < doc.meshes.size(); ++m) {
+        const GradientMesh& mesh = doc.meshes[m];
         if (legacy || !mesh.slits.empty()) {
             std::vector<GradientMesh> split = splitIntoLegacyMeshes(mesh);
             const std::vector<PieceSeams> seams = legacySeams(mesh);
             for (size_t k = 0; k < split.size(); ++k)
-                pieces.push_back({std::move(split[k]), k < seams.size() ? seams[k] : PieceSeams{}});
+                pieces.push_back(
+                    {std::move(split[k]), k < seams.size() ? seams[k] : PieceSeams{}, m});
         } else {
-            pieces.push_back({mesh, {}});
+            pieces.push_back({mesh, {}, m});
         }
     }
     return pieces;
@@ -560,8 +564,14 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     }
     std::string paths;
     int n = 0;
+    size_t nextShape = 0;  // flat shapes go between the meshes in their paint order
+    auto shapesUpTo = [&](size_t layer) {
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
+            appendShapePath(paths, doc.shapes[nextShape]);
+    };
     for (size_t k = 0; k < pieces.size(); ++k) {
         const SvgPiece& p = pieces[k];
+        shapesUpTo(p.source);
         const GradientMesh& piece = p.mesh;
         const std::string id = "m" + std::to_string(n++);
         const std::vector<BezierPatch> patches = meshPatches(piece);
@@ -578,6 +588,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
         ++local.meshGradients;
         appendOutline(paths, base, id, syntax, p.seams);
     }
+    shapesUpTo(SIZE_MAX);
     out += "</defs>\n";
     if (fallback) appendSvgFallbackLayer(out, *fallback, doc.width, doc.height);  // beneath the shapes
     out += paths;

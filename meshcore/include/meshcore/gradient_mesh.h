@@ -120,10 +120,27 @@ bool operator==(const Slit& a, const Slit& b);
 bool operator==(const CornerTangent& a, const CornerTangent& b);
 bool operator==(const GradientMesh& a, const GradientMesh& b);
 
-// Several meshes on a canvas; painted in order.
+// A region of one colour: closed cubic Bézier subpaths (an outer boundary and its holes), canvas
+// pixels, filled with the nonzero rule; holes wind opposite to the boundary around them, so that
+// the even-odd rule fills the same area. Subpath k's points are 3n, n >= 1: segment m runs from
+// points[3m] via the handles points[3m+1], points[3m+2] to points[3m+3], the last one back to
+// points[0] (closed implicitly).
+struct FlatShape {
+    Vec3 col;          // sRGB 0–1
+    double alpha = 1;  // 0–1, straight
+    std::vector<std::vector<Vec2>> subpaths;
+    // Paint order: the shape is painted after the first `layer` meshes of its document and
+    // before the others (0: below every mesh, meshes.size(): above all).
+    size_t layer = 0;
+};
+bool operator==(const FlatShape& a, const FlatShape& b);
+
+// Several meshes on a canvas; painted in order. Flat shapes, when there are any, are painted in
+// their list order, each between the meshes its `layer` names (non-decreasing along the list).
 struct Document {
     int width = 0, height = 0;  // canvas, pixels
     std::vector<GradientMesh> meshes;
+    std::vector<FlatShape> shapes;
 };
 bool operator==(const Document& a, const Document& b);
 

@@ -34,7 +34,8 @@ struct RenderOptions {
 //    the tessellation tolerance); the topmost mesh and, within a mesh, the last patch wins.
 //  - centre == false, mesh >= 0: an outline pixel (0 < alpha) whose centre lies just outside the
 //    mesh; its colour is taken from the nearest covered sample, named here.
-//  - mesh == -1: nothing painted (alpha 0).
+//  - mesh == -1: nothing painted (alpha 0), or a flat shape (Document::shapes) covers the pixel
+//    opaquely; shapes name no sample.
 struct PixelSample {
     int32_t mesh = -1;
     int32_t patch = -1;
@@ -48,6 +49,8 @@ struct RenderResult {
     size_t triangles = 0;              // micro-triangles rasterised (statistics)
 };
 
+// The document's meshes and flat shapes in their paint order (FlatShape::layer); a shape is
+// anti-aliased like a mesh outline.
 // Throws gm::Error when the scale is not a positive finite number or the output would be larger
 // than 2^21 pixels along a side, or a mesh's arrays do not match its grid.
 RenderResult renderDocument(const Document& doc, const RenderOptions& options = {});

@@ -18,7 +18,12 @@ constexpr double kMaxCoordinate = 1e7;
 // patch that does not exist, a non-finite number anywhere.
 std::string validateMesh(const GradientMesh& mesh);
 
-// As above for every mesh, plus a positive canvas size; the message names the mesh.
+// A flat shape of a document of `meshCount` meshes: colour and opacity within 0-1, a layer that
+// exists, at least one subpath, each of 3n points (n >= 1), every point finite.
+std::string validateShape(const FlatShape& shape, size_t meshCount);
+
+// As above for every mesh and shape (shapes in non-decreasing layers), plus a positive canvas
+// size; the message names the mesh or shape.
 std::string validateDocument(const Document& doc);
 
 // Empty when every position of a valid mesh is within kMaxCoordinate and every handle within

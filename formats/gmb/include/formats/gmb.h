@@ -13,7 +13,8 @@ std::unique_ptr<MeshFormat> makeGmbFormat();
 // In-memory encode/decode (the format object reads/writes files through these). The layout,
 // versions 1.4 and 2.0, is specified in docs/formats.md; the reader
 // also reads every 1.0 to 1.3 file (CMSH sections included), a lossless file is still a 1.0
-// file and a compact one 2.0 (see GmbFraming).
+// file and a compact one 2.0 (see GmbFraming). A document with flat shapes is written as 1.5
+// (lossless) or 2.1 (compact): a SHAP section after the meshes.
 // `compact`: quantised, predicted and range-coded (encoding 2), within the bounds below, in
 // CMS2 or CMS3 sections (versions 1.3 and 1.4: each run of meshes is one range-coded stream
 // whose models learn from mesh to mesh, so many small meshes cost little more than one);

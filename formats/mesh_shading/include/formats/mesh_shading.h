@@ -21,6 +21,7 @@ namespace gm {
 // The patches of one shading, in painting order.
 struct MeshShading {
     std::vector<BezierPatch> patches;
+    size_t source = 0;  // the document's mesh it comes from
 };
 
 // One shading per mesh, or per hole-free legacy piece when options.legacy; patches already
@@ -57,6 +58,23 @@ std::string encodeShadingText(const MeshShading& shading, size_t first, size_t c
 // `value` in fixed notation with at most `decimals` decimals, trailing zeros removed, never
 // "-0"; independent of the C locale.
 std::string formatDecimal(double value, int decimals);
+
+// The operators of a page description language that fill a path.
+struct PathOperators {
+    const char* setColor;  // after "r g b": "rg" (PDF), "setrgbcolor" (PostScript)
+    const char* moveTo;    // "m", "moveto"
+    const char* lineTo;    // "l", "lineto"
+    const char* curveTo;   // "c", "curveto"
+    const char* close;     // "h", "closepath"
+    const char* fill;      // nonzero fill: "f", "fill"
+};
+extern const PathOperators kPdfPathOperators;
+extern const PathOperators kPostScriptPathOperators;
+
+// A flat shape filled in its colour (opaque: opacity is the writer's matter), canvas
+// coordinates to 1/1000 px, lines under 255 characters; cubics whose handles lie at a third and
+// two thirds of their chord as lines.
+std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops);
 
 // zlib-format (RFC 1950) compression, what /FlateDecode reads.
 std::string deflateBytes(const std::string& bytes);

@@ -1,0 +1,63 @@
+// Whole images (docs/design.md §5): regions of one colour become flat shapes (FlatShape: one
+// colour, a cubic Bézier outline with holes) instead of meshes, so that a flat drawing costs a
+// path per region rather than patches along every jagged outline.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "converters/colors.h"
+#include "converters/region.h"
+#include "meshcore/gradient_mesh.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+struct FlatOptions {
+    // A region is flat when one colour fits its interior pixels (those whose four neighbours
+    // are in the region too; all its pixels when fewer than minInterior, or than
+    // minInteriorShare of its pixels, are) with E at most
+    // errorShare times the conversion's error target. Border pixels are left out: in an
+    // anti-aliased drawing they mix the region's colour with its neighbour's, which the shape's
+    // anti-aliased outline reproduces.
+    double errorShare = 0.25;
+    int minInterior = 8;
+    double minInteriorShare = 0.25;
+    // ... and when at most outlierShare of those pixels are further than outlierError times
+    // the target from the colour (a gentle gradient or texture with a low mean error is not
+    // flat).
+    double outlierShare = 0.02;
+    double outlierError = 4;
+    double curveTolerance = 0.5;    // pixels: the Bézier outline against the traced loop
+    double outlineSmoothing = 0.8;  // Gaussian sigma (pixels) on the coverage traced
+    // Holes of fewer pixels are filled: a border pixel that holds less than half of the shape's
+    // colour makes a speck of a hole, which what is drawn on top covers anyway.
+    int minHole = 3;
+};
+
+// The colour that fits a region and whether it is flat.
+struct FlatFit {
+    bool flat = false;
+    Vec3 col;           // sRGB 0–1, the mean over the interior pixels
+    FitError interior;  // of that colour over the interior pixels
+    FitError all;       // ... and over all the region's pixels
+};
+
+FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError,
+                      const FlatOptions& options = {});
+
+// The region as a flat shape of colour `col`: its outline traced around its pixels grown by
+// `overlap` pixels into `under` (width*height, the pixels of whatever is drawn on top of it),
+// with its holes that lie wholly under `under` filled (what is drawn on top paints them), fitted
+// with cubic Béziers within options.curveTolerance. Where the shape is seen, the outline lies
+// where the image's anti-aliased border pixels say (each pixel's share of `col` against the
+// colour beyond, traced at one half). Subpaths: the outer boundary (clockwise on screen), then
+// each hole (counter-clockwise). Throws gm::Error if nothing is left.
+FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
+                         const std::vector<uint8_t>& under, const FlatOptions& options = {});
+
+// A closed polygon as closed cubic Béziers (FlatShape subpath layout) within `tolerance` pixels
+// of it: corners sharper than 50 degrees stay corners; elsewhere the curves join smoothly.
+std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance);
+
+}  // namespace gm

@@ -1,0 +1,385 @@
+// Flat regions of a whole image (flat_regions.h): the flat-colour test, the outline traced around
+// the region's pixels and its fit with cubic Béziers.
+#include "converters/flat_regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "converters/regions.h"
+#include "meshcore/error.h"
+
+namespace gm {
+
+namespace {
+
+// The mean colour of the pixels `at` (indices into the image).
+Vec3 meanColour(const RgbaImage& image, const std::vector<size_t>& at) {
+    Vec3 mean;
+    double sum[3] = {0, 0, 0};
+    for (size_t k : at)
+        for (int c = 0; c < 3; ++c) sum[c] += image.pixels[4 * k + c];
+    for (int c = 0; c < 3; ++c)
+        mean[c] = std::clamp(sum[c] / double(std::max<size_t>(1, at.size())), 0.0, 1.0);
+    return mean;
+}
+
+// The FitError of colour `col` over the pixels `at`; `outliers` counts pixels whose mean channel
+// error exceeds `outlierLimit` (0–255 units).
+FitError flatError(const RgbaImage& image, const std::vector<size_t>& at, const Vec3& col,
+                   double outlierLimit, long& outliers) {
+    FitError e;
+    e.pixels = static_cast<long>(at.size());
+    outliers = 0;
+    if (at.empty()) return e;
+    double absSum = 0, sqSum = 0;
+    for (size_t k : at) {
+        double pixelAbs = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double d = 255.0 * std::fabs(image.pixels[4 * k + c] - col[c]);
+            pixelAbs += d;
+            sqSum += d * d;
+            e.maxAbs = std::max(e.maxAbs, d);
+        }
+        absSum += pixelAbs;
+        outliers += pixelAbs / 3 > outlierLimit;
+    }
+    const double n = 3.0 * double(at.size());
+    e.meanAbs = absSum / n;
+    e.rmse = std::sqrt(sqSum / n);
+    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
+    return e;
+}
+
+double dot3(const Vec3& a, const Vec3& b) { return a.r * b.r + a.g * b.g + a.b * b.b; }
+
+// Sets the pixels of every hole of `mask` (a background component, 4-connected, that does not
+// reach the image border) that lies wholly in `under`.
+void fillHolesUnder(std::vector<uint8_t>& mask, const std::vector<uint8_t>& under, int w, int h) {
+    const PixelBox b = maskBounds(mask, w, h);
+    if (b.empty()) return;
+    const int x0 = std::max(0, b.x0 - 1), y0 = std::max(0, b.y0 - 1);
+    const int x1 = std::min(w - 1, b.x1 + 1), y1 = std::min(h - 1, b.y1 + 1);
+    const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
+    // 0: unvisited, 1: outside, 2: a hole component being collected.
+    std::vector<uint8_t> seen(static_cast<size_t>(bw) * bh, 0);
+    auto image = [&](int i, int j) { return static_cast<size_t>(y0 + j) * w + x0 + i; };
+    std::deque<int> queue;
+    std::vector<int> component;
+    auto flood = [&](int start, uint8_t mark) {
+        queue.assign(1, start);
+        seen[static_cast<size_t>(start)] = mark;
+        while (!queue.empty()) {
+            const int p = queue.front();
+            queue.pop_front();
+            component.push_back(p);
+            const int i = p % bw, j = p / bw;
+            const int ni[4] = {i - 1, i + 1, i, i}, nj[4] = {j, j, j - 1, j + 1};
+            for (int d = 0; d < 4; ++d) {
+                if (ni[d] < 0 || nj[d] < 0 || ni[d] >= bw || nj[d] >= bh) continue;
+                const int q = nj[d] * bw + ni[d];
+                if (seen[static_cast<size_t>(q)] || mask[image(ni[d], nj[d])]) continue;
+                seen[static_cast<size_t>(q)] = mark;
+                queue.push_back(q);
+            }
+        }
+    };
+    for (int j = 0; j < bh; ++j)
+        for (int i = 0; i < bw; ++i) {
+            const bool frame = i == 0 || j == 0 || i == bw - 1 || j == bh - 1;
+            const int p = j * bw + i;
+            if (frame && !seen[static_cast<size_t>(p)] && !mask[image(i, j)]) flood(p, 1);
+        }
+    component.clear();
+    for (int p = 0; p < bw * bh; ++p) {
+        if (seen[static_cast<size_t>(p)] || mask[image(p % bw, p / bw)]) continue;
+        component.clear();
+        flood(p, 2);
+        const bool covered = std::all_of(component.begin(), component.end(),
+                                         [&](int q) { return under[image(q % bw, q / bw)] != 0; });
+        if (covered)
+            for (int q : component) mask[image(q % bw, q / bw)] = 1;
+    }
+}
+
+// How much of the shape's colour `col` each pixel holds, for tracing its outline between pixel
+// centres: 1 where the shape reaches under later regions (`grown` and `under`, or grown beyond
+// `own`: they paint over it), else the share of `col` in the pixel's colour against the colour
+// furthest from it among the pixels within two pixels that the shape does not reach (its
+// anti-aliased border blends the two); a pixel with no such neighbour, or whose neighbours' colour
+// is too close to `col` to tell a share, is 1 in the region and 0 outside it.
+Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
+                       const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
+                       const Vec3& col) {
+    const int w = image.width, h = image.height;
+    Coverage c;
+    c.width = w, c.height = h;
+    c.values.assign(static_cast<size_t>(w) * h, 0.0f);
+    const PixelBox b = maskBounds(grown, w, h);
+    if (b.empty()) return c;
+    auto colourAt = [&](size_t k) {
+        return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
+    };
+    constexpr int kReach = 2;
+    constexpr double kLeastContrast = 0.1;  // 0–1 units: closer than this, no share is told
+    for (int y = std::max(0, b.y0 - kReach); y <= std::min(h - 1, b.y1 + kReach); ++y)
+        for (int x = std::max(0, b.x0 - kReach); x <= std::min(w - 1, b.x1 + kReach); ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            if (grown[k] && (under[k] || !own[k])) {
+                c.values[k] = 1;
+                continue;
+            }
+            Vec3 other;
+            double furthest = -1;
+            for (int dy = -kReach; dy <= kReach; ++dy)
+                for (int dx = -kReach; dx <= kReach; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const size_t q = static_cast<size_t>(yy) * w + xx;
+                    if (grown[q]) continue;
+                    const Vec3 v = colourAt(q) - col;
+                    const double d = dot3(v, v);
+                    if (d > furthest) furthest = d, other = colourAt(q);
+                }
+            const Vec3 axis = col - other;
+            const double len2 = dot3(axis, axis);
+            if (furthest < 0 || len2 < kLeastContrast * kLeastContrast) {
+                c.values[k] = own[k] ? 1.0f : 0.0f;
+                continue;
+            }
+            const double share = dot3(colourAt(k) - other, axis) / len2;
+            c.values[k] = static_cast<float>(std::clamp(share, 0.0, 1.0));
+        }
+    return c;
+}
+
+Vec2 unit(Vec2 v) {
+    const double n = norm(v);
+    return n > 0 ? (1 / n) * v : Vec2{1, 0};
+}
+
+Vec2 bezierAt(const Vec2 q[4], double t) {
+    const double u = 1 - t;
+    return (u * u * u) * q[0] + (3 * u * u * t) * q[1] + (3 * u * t * t) * q[2] +
+           (t * t * t) * q[3];
+}
+
+// Fits cubics to the points pts[a..b] of a closed point list (indices modulo its size), with unit
+// tangents tA (leaving pts[a]) and tB (arriving at pts[b], pointing back along the curve); appends
+// each cubic's first three points (start and handles) to `out`.
+class CubicFitter {
+public:
+    CubicFitter(const std::vector<Vec2>& pts, double tolerance)
+        : pts_(pts), n_(pts.size()), tol_(tolerance) {}
+
+    void fit(size_t a, size_t b, Vec2 tA, Vec2 tB, std::vector<Vec2>& out, int depth = 0) {
+        const size_t count = b - a;  // b may exceed n_: indices wrap
+        const Vec2 pa = at(a), pb = at(b);
+        if (count <= 1 || depth > 40) {
+            out.insert(out.end(), {pa, pa + (1.0 / 3) * (pb - pa), pa + (2.0 / 3) * (pb - pa)});
+            return;
+        }
+        std::vector<double> param = chordParams(a, b);
+        Vec2 q[4];
+        solveHandles(a, b, tA, tB, param, q);
+        size_t worst = a;
+        double error = maxError(a, b, q, param, worst);
+        for (int pass = 0; pass < 4 && error > tol_ && error < 4 * tol_; ++pass) {
+            reparametrise(a, b, q, param);
+            solveHandles(a, b, tA, tB, param, q);
+            error = maxError(a, b, q, param, worst);
+        }
+        if (error <= tol_) {
+            out.insert(out.end(), {q[0], q[1], q[2]});
+            return;
+        }
+        if (worst <= a || worst >= b) worst = a + count / 2;
+        const Vec2 t = unit(at(worst + 1) - at(worst - 1));
+        fit(a, worst, tA, -t, out, depth + 1);
+        fit(worst, b, t, tB, out, depth + 1);
+    }
+
+private:
+    Vec2 at(size_t k) const { return pts_[k % n_]; }
+
+    std::vector<double> chordParams(size_t a, size_t b) const {
+        std::vector<double> u(b - a + 1, 0.0);
+        for (size_t k = a + 1; k <= b; ++k) u[k - a] = u[k - a - 1] + norm(at(k) - at(k - 1));
+        const double total = u.back();
+        for (double& x : u) x = total > 0 ? x / total : 0;
+        return u;
+    }
+
+    // Least-squares handle lengths along the fixed tangents (Schneider's normal equations);
+    // a third of the chord when they degenerate.
+    void solveHandles(size_t a, size_t b, Vec2 tA, Vec2 tB, const std::vector<double>& u,
+                      Vec2 q[4]) const {
+        const Vec2 p0 = at(a), p3 = at(b);
+        double c00 = 0, c01 = 0, c11 = 0, x0 = 0, x1 = 0;
+        for (size_t k = a; k <= b; ++k) {
+            const double t = u[k - a], s = 1 - t;
+            const double b0 = s * s * s, b1 = 3 * s * s * t, b2 = 3 * s * t * t, b3 = t * t * t;
+            const Vec2 A1 = b1 * tA, A2 = b2 * tB;
+            c00 += dot(A1, A1), c01 += dot(A1, A2), c11 += dot(A2, A2);
+            const Vec2 r = at(k) - ((b0 + b1) * p0 + (b2 + b3) * p3);
+            x0 += dot(A1, r), x1 += dot(A2, r);
+        }
+        const double det = c00 * c11 - c01 * c01;
+        double la = 0, lb = 0;
+        if (std::fabs(det) > 1e-12) {
+            la = (x0 * c11 - c01 * x1) / det;
+            lb = (c00 * x1 - c01 * x0) / det;
+        }
+        const double chord = norm(p3 - p0);
+        if (!(la > 1e-3 * chord) || !(lb > 1e-3 * chord) || la > 2 * chord + 1 ||
+            lb > 2 * chord + 1)
+            la = lb = chord / 3;
+        q[0] = p0, q[1] = p0 + la * tA, q[2] = p3 + lb * tB, q[3] = p3;
+    }
+
+    double maxError(size_t a, size_t b, const Vec2 q[4], const std::vector<double>& u,
+                    size_t& worst) const {
+        double most = 0;
+        worst = a;
+        for (size_t k = a + 1; k < b; ++k) {
+            const double d = norm(bezierAt(q, u[k - a]) - at(k));
+            if (d > most) most = d, worst = k;
+        }
+        return most;
+    }
+
+    // One Newton step per point towards the curve's nearest parameter.
+    void reparametrise(size_t a, size_t b, const Vec2 q[4], std::vector<double>& u) const {
+        for (size_t k = a + 1; k < b; ++k) {
+            const double t = u[k - a], s = 1 - t;
+            const Vec2 d1 = (3 * s * s) * (q[1] - q[0]) + (6 * s * t) * (q[2] - q[1]) +
+                            (3 * t * t) * (q[3] - q[2]);
+            const Vec2 d2 = (6 * s) * (q[2] - 2 * q[1] + q[0]) + (6 * t) * (q[3] - 2 * q[2] + q[1]);
+            const Vec2 r = bezierAt(q, t) - at(k);
+            const double den = dot(d1, d1) + dot(r, d2);
+            if (std::fabs(den) > 1e-12) u[k - a] = std::clamp(t - dot(r, d1) / den, 0.0, 1.0);
+        }
+    }
+
+    const std::vector<Vec2>& pts_;
+    const size_t n_;
+    const double tol_;
+};
+
+// The polygon with extra points so that no edge is longer than one pixel; `vertexAt` gets the
+// index of each original vertex.
+std::vector<Vec2> densify(const std::vector<Vec2>& poly, std::vector<size_t>& vertexAt) {
+    std::vector<Vec2> out;
+    vertexAt.clear();
+    for (size_t k = 0; k < poly.size(); ++k) {
+        const Vec2 p = poly[k], q = poly[(k + 1) % poly.size()];
+        vertexAt.push_back(out.size());
+        const int steps = std::max(1, static_cast<int>(std::ceil(norm(q - p))));
+        for (int s = 0; s < steps; ++s) out.push_back(p + (double(s) / steps) * (q - p));
+    }
+    return out;
+}
+
+double turnAngle(Vec2 before, Vec2 after) {
+    const double c = dot(unit(before), unit(after));
+    return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+}  // namespace
+
+FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError,
+                      const FlatOptions& options) {
+    FlatFit fit;
+    const int w = own.width, h = own.height;
+    if (image.width != w || image.height != h) return fit;
+    std::vector<size_t> interior, all;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t k = static_cast<size_t>(y) * w + x;
+            if (!own.mask[k]) continue;
+            all.push_back(k);
+            if (x > 0 && y > 0 && x + 1 < w && y + 1 < h && own.mask[k - 1] && own.mask[k + 1] &&
+                own.mask[k - w] && own.mask[k + w])
+                interior.push_back(k);
+        }
+    if (all.empty()) return fit;
+    // A thin region (a line, a frame) has little interior, and what it has says nothing of it.
+    const bool fewInterior =
+        static_cast<int>(interior.size()) < options.minInterior ||
+        double(interior.size()) < options.minInteriorShare * double(all.size());
+    const std::vector<size_t>& fitted = fewInterior ? all : interior;
+    fit.col = meanColour(image, fitted);
+    long outliers = 0, ignored = 0;
+    fit.interior = flatError(image, fitted, fit.col, options.outlierError * maxError, outliers);
+    fit.all = flatError(image, all, fit.col, INFINITY, ignored);
+    fit.flat = fit.interior.meanAbs <= options.errorShare * maxError &&
+               double(outliers) <= options.outlierShare * double(fit.interior.pixels);
+    return fit;
+}
+
+std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance) {
+    std::vector<Vec2> out;
+    const size_t m = polygon.size();
+    if (m < 3) {
+        for (const Vec2& p : polygon) out.insert(out.end(), {p, p, p});
+        return out;
+    }
+    std::vector<size_t> vertexAt;
+    const std::vector<Vec2> pts = densify(polygon, vertexAt);
+    const size_t n = pts.size();
+    // Corners: vertices that turn more than 50 degrees. Without any, the vertex that turns most
+    // starts the loop and the curves meet there smoothly too.
+    constexpr double kCornerAngle = 50 * M_PI / 180;
+    std::vector<size_t> corners;
+    size_t sharpest = 0;
+    double sharpestAngle = -1;
+    for (size_t k = 0; k < m; ++k) {
+        const double a =
+            turnAngle(polygon[k] - polygon[(k + m - 1) % m], polygon[(k + 1) % m] - polygon[k]);
+        if (a > kCornerAngle) corners.push_back(vertexAt[k]);
+        if (a > sharpestAngle) sharpestAngle = a, sharpest = vertexAt[k];
+    }
+    CubicFitter fitter(pts, tolerance);
+    auto at = [&](size_t k) { return pts[k % n]; };
+    if (corners.empty()) {
+        const Vec2 t = unit(at(sharpest + 1) - at(sharpest + n - 1));
+        fitter.fit(sharpest, sharpest + n, t, -t, out);
+        return out;
+    }
+    for (size_t c = 0; c < corners.size(); ++c) {
+        const size_t a = corners[c];
+        const size_t b = c + 1 < corners.size() ? corners[c + 1] : corners.front() + n;
+        fitter.fit(a, b, unit(at(a + 1) - at(a)), unit(at(b + n - 1) - at(b)), out);
+    }
+    return out;
+}
+
+FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
+                         const std::vector<uint8_t>& under, const FlatOptions& options) {
+    const int w = own.width, h = own.height;
+    std::vector<uint8_t> grown = own.mask;
+    if (overlap > 0) {
+        const std::vector<uint8_t> d = dilateMask(own.mask, w, h, overlap);
+        for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
+    }
+    fillHolesUnder(grown, under, w, h);
+    RegionOptions regionOptions;
+    regionOptions.minArea = 1;
+    regionOptions.minHole = options.minHole;
+    regionOptions.simplifyTolerance = 0.1;
+    regionOptions.maxSegment = 1e6;
+    regionOptions.smoothing = options.outlineSmoothing;
+    const std::vector<Region> traced = extractRegions(
+        image.width == w && image.height == h ? shareCoverage(image, own.mask, grown, under, col)
+                                              : coverageFromBits(w, h, grown),
+        regionOptions);
+    if (traced.empty()) throw Error("the flat region vanished");
+    FlatShape shape;
+    shape.col = col;
+    shape.subpaths.push_back(fitClosedCubics(traced.front().outer.points, options.curveTolerance));
+    for (const Polygon& hole : traced.front().holes)
+        shape.subpaths.push_back(fitClosedCubics(hole.points, options.curveTolerance));
+    return shape;
+}
+
+}  // namespace gm

@@ -1,0 +1,28 @@
+// The SHAP section of .gmb (versions 1.5 and 2.1, docs/formats.md): the document's flat shapes.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gmb_pvt.h"
+
+namespace gm::gmb {
+
+constexpr uint16_t kMinorShapes = 5;       // a 1.x file with a SHAP section
+constexpr uint16_t kMinorShortShapes = 1;  // a 2.x file with a SHAP section
+
+// Point encodings of a SHAP payload.
+enum class ShapeEncoding : uint8_t { Float64 = 0, Quantized = 1 };
+// Quantized points are multiples of 2^-kShapePointBits px.
+constexpr int kShapePointBits = 8;
+
+// The payload: float64 (lossless) or, when `quantize`, points to 1/256 px and colours in 16 bits.
+std::string encodeShapes(const std::vector<FlatShape>& shapes, bool quantize);
+
+// Reads a SHAP payload of at most `maxShapes` shapes, checking every count against the bytes
+// that remain before allocating; `charge` is told the bytes each subpath decodes to.
+std::vector<FlatShape> decodeShapes(ByteReader& r, uint64_t maxShapes,
+                                    const std::function<void(ByteReader&, uint64_t)>& charge);
+
+}  // namespace gm::gmb

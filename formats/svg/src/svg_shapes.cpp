@@ -1,0 +1,287 @@
+// Flat shapes as SVG paths (svg_shapes.h).
+#include "svg_shapes.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "svg_number.h"
+
+namespace gm {
+
+namespace {
+
+constexpr double kSteps = 100;  // 1/100 px, the compact mesh syntax's precision
+constexpr int kDecimals = kSvgDecimalsCompact;
+
+struct StepPoint {
+    long long x = 0, y = 0;
+};
+StepPoint steps(Vec2 p) { return {std::llround(p.x * kSteps), std::llround(p.y * kSteps)}; }
+StepPoint operator-(StepPoint a, StepPoint b) { return {a.x - b.x, a.y - b.y}; }
+bool operator==(StepPoint a, StepPoint b) { return a.x == b.x && a.y == b.y; }
+
+// Path data with separators only where the grammar needs them and command letters only where
+// the command changes (a repeated command may be left out, except after a moveto, whose
+// repetitions would be linetos).
+class PathText {
+public:
+    explicit PathText(std::string& out) : out_(out) {}
+
+    void command(char letter) {
+        if (letter == last_ && letter != 'm' && letter != 'M') return;
+        out_ += letter;
+        last_ = letter;
+        afterLetter_ = true;
+    }
+    void point(StepPoint p) {
+        number(p.x);
+        number(p.y);
+    }
+
+private:
+    void number(long long v) {
+        text_.clear();
+        appendSvgNumber(text_, static_cast<double>(v) / kSteps, true, kDecimals);
+        const bool joins = text_[0] == '-' || (text_[0] == '.' && previousHasPoint_);
+        if (!afterLetter_ && !joins) out_ += ' ';
+        out_ += text_;
+        previousHasPoint_ = text_.find('.') != std::string::npos;
+        afterLetter_ = false;
+    }
+
+    std::string& out_;
+    std::string text_;
+    char last_ = 0;
+    bool afterLetter_ = true, previousHasPoint_ = false;
+};
+
+bool isLine(StepPoint a, StepPoint h1, StepPoint h2, StepPoint b) {
+    auto near = [](StepPoint h, StepPoint a, StepPoint b, double t) {
+        return std::fabs(h.x - (a.x + t * (b.x - a.x))) <= 1 &&
+               std::fabs(h.y - (a.y + t * (b.y - a.y))) <= 1;
+    };
+    return near(h1, a, b, 1.0 / 3) && near(h2, a, b, 2.0 / 3);
+}
+
+void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& current, bool first) {
+    const size_t n = path.size();
+    const StepPoint start = steps(path[0]);
+    if (first) {
+        text.command('M');
+        text.point(start);
+    } else {
+        text.command('m');
+        text.point(start - current);
+    }
+    for (size_t k = 0; k < n; k += 3) {
+        const StepPoint a = steps(path[k]), h1 = steps(path[k + 1]), h2 = steps(path[k + 2]);
+        const StepPoint b = steps(path[(k + 3) % n]);
+        const bool closing = k + 3 >= n;
+        if (isLine(a, h1, h2, b)) {
+            if (closing) break;  // z draws it
+            if (b == a) continue;
+            text.command('l');
+            text.point(b - a);
+        } else {
+            text.command('c');
+            text.point(h1 - a);
+            text.point(h2 - a);
+            text.point(b - a);
+        }
+    }
+    text.command('z');
+    current = start;  // after z the current point is the subpath's start
+}
+
+void appendOpacity(std::string& out, double alpha) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", std::fmin(1.0, std::fmax(0.0, alpha)));
+    out += " fill-opacity=\"";
+    out += text;
+    out += '"';
+}
+
+int hexDigit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+// Parses path data into subpaths; a small state machine over commands and their numbers.
+class PathParser {
+public:
+    PathParser(const std::string& d, double maxCoordinate, size_t maxPoints)
+        : p_(d.c_str()), maxCoordinate_(maxCoordinate), maxPoints_(maxPoints) {}
+
+    bool run(std::vector<std::vector<Vec2>>& subpaths, std::string& problem) {
+        char cmd = 0;
+        while (true) {
+            skipSeparators();
+            if (!*p_) break;
+            if (std::isalpha(static_cast<unsigned char>(*p_))) {
+                cmd = *p_++;
+                if (std::strchr("MmLlHhVvCcZz", cmd) == nullptr)
+                    return fail(problem, std::string("unsupported path command '") + cmd + "'");
+                if (cmd == 'Z' || cmd == 'z') {
+                    close();
+                    continue;
+                }
+            } else if (cmd == 0 || cmd == 'Z' || cmd == 'z') {
+                return fail(problem, "path data does not start with a command");
+            }
+            if (!segment(cmd, problem)) return false;
+            if (cmd == 'M') cmd = 'L';  // implicit repetitions of a moveto are linetos
+            if (cmd == 'm') cmd = 'l';
+        }
+        close();
+        subpaths = std::move(done_);
+        return true;
+    }
+
+private:
+    bool fail(std::string& problem, const std::string& what) {
+        problem = what;
+        return false;
+    }
+
+    void skipSeparators() {
+        while (*p_ && (std::isspace(static_cast<unsigned char>(*p_)) || *p_ == ',')) ++p_;
+    }
+
+    bool number(double& v, std::string& problem) {
+        skipSeparators();
+        const char c0 = *p_;
+        if (!(std::isdigit(static_cast<unsigned char>(c0)) || c0 == '-' || c0 == '+' || c0 == '.'))
+            return fail(problem, "a number is missing in path data");
+        char* end = nullptr;
+        v = std::strtod(p_, &end);
+        if (end == p_) return fail(problem, "malformed number in path data");
+        for (const char* q = p_; q < end; ++q)
+            if (std::isalpha(static_cast<unsigned char>(*q)) && *q != 'e' && *q != 'E')
+                return fail(problem, "malformed number in path data");
+        if (!std::isfinite(v) || std::fabs(v) > maxCoordinate_)
+            return fail(problem, "number out of range in path data");
+        p_ = end;
+        return true;
+    }
+
+    bool point(Vec2& q, bool relative, std::string& problem) {
+        if (!number(q.x, problem) || !number(q.y, problem)) return false;
+        if (relative) q = q + current_;
+        return true;
+    }
+
+    bool segment(char cmd, std::string& problem) {
+        const bool rel = std::islower(static_cast<unsigned char>(cmd)) != 0;
+        const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(cmd)));
+        Vec2 a, b, e;
+        if (c == 'M') {
+            if (!point(e, rel, problem)) return false;
+            close();
+            current_ = start_ = e;
+            return true;
+        }
+        if (c == 'H' || c == 'V') {
+            double v = 0;
+            if (!number(v, problem)) return false;
+            e = current_;
+            (c == 'H' ? e.x : e.y) = rel ? (c == 'H' ? current_.x : current_.y) + v : v;
+            return line(e, problem);
+        }
+        if (c == 'L') return point(e, rel, problem) && line(e, problem);
+        if (!point(a, rel, problem) || !point(b, rel, problem) || !point(e, rel, problem))
+            return false;
+        return cubic(a, b, e, problem);
+    }
+
+    bool line(Vec2 e, std::string& problem) {
+        const Vec2 s = current_;
+        return cubic(s + (1.0 / 3) * (e - s), s + (2.0 / 3) * (e - s), e, problem);
+    }
+
+    bool cubic(Vec2 a, Vec2 b, Vec2 e, std::string& problem) {
+        if (open_.empty()) open_.push_back(current_);
+        open_.insert(open_.end(), {a, b, e});
+        current_ = e;
+        if ((points_ += 3) > maxPoints_) return fail(problem, "path data has too many points");
+        return true;
+    }
+
+    // Ends the open subpath: the last point closes onto the first (a line added when they
+    // differ); a subpath without segments is dropped.
+    void close() {
+        if (open_.size() >= 4) {
+            const Vec2 s = open_.front(), last = open_.back();
+            // Relative coordinates add up to the start only up to rounding.
+            const double tol = 1e-7 * (1 + std::fabs(s.x) + std::fabs(s.y));
+            if (std::fabs(last.x - s.x) <= tol && std::fabs(last.y - s.y) <= tol) {
+                open_.pop_back();
+            } else {
+                open_.insert(open_.end(),
+                             {last + (1.0 / 3) * (s - last), last + (2.0 / 3) * (s - last)});
+            }
+            done_.push_back(std::move(open_));
+        }
+        open_.clear();
+        current_ = start_;
+    }
+
+    const char* p_;
+    const double maxCoordinate_;
+    const size_t maxPoints_;
+    size_t points_ = 0;
+    Vec2 current_, start_;
+    std::vector<Vec2> open_;
+    std::vector<std::vector<Vec2>> done_;
+};
+
+}  // namespace
+
+void appendShapePath(std::string& out, const FlatShape& shape) {
+    static const char* hex = "0123456789abcdef";
+    out += "<path fill=\"#";
+    for (int k = 0; k < 3; ++k) {
+        const long v = std::lround(std::fmin(1.0, std::fmax(0.0, shape.col[k])) * 255.0);
+        out += hex[v >> 4];
+        out += hex[v & 15];
+    }
+    out += '"';
+    if (shape.alpha < 1) appendOpacity(out, shape.alpha);
+    out += " d=\"";
+    PathText text(out);
+    StepPoint current;
+    for (size_t k = 0; k < shape.subpaths.size(); ++k)
+        appendSubpath(text, shape.subpaths[k], current, k == 0);
+    out += "\"/>\n";
+}
+
+bool parseShapePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
+                        std::vector<std::vector<Vec2>>& subpaths, std::string& problem) {
+    return PathParser(d, maxCoordinate, maxPoints).run(subpaths, problem);
+}
+
+bool parseHexColour(const std::string& text, Vec3& colour) {
+    if (text.size() != 4 && text.size() != 7) return false;
+    if (text[0] != '#') return false;
+    const bool shortForm = text.size() == 4;
+    for (int k = 0; k < 3; ++k) {
+        int v = 0;
+        if (shortForm) {
+            const int d = hexDigit(text[1 + k]);
+            if (d < 0) return false;
+            v = d * 17;
+        } else {
+            const int hi = hexDigit(text[1 + 2 * k]), lo = hexDigit(text[2 + 2 * k]);
+            if (hi < 0 || lo < 0) return false;
+            v = hi * 16 + lo;
+        }
+        colour[k] = v / 255.0;
+    }
+    return true;
+}
+
+}  // namespace gm

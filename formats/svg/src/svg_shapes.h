@@ -1,0 +1,28 @@
+// Flat shapes (FlatShape) in SVG: written as <path fill="#rrggbb" d="..."/> with compact
+// relative path data at 1/100 px, read back from such paths.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "meshcore/gradient_mesh.h"
+
+namespace gm {
+
+// Appends the shape's <path> element and a newline. Points are rounded to 1/100 px once and
+// written as differences of the rounded values, so rounding never accumulates; cubics whose
+// handles lie at a third and two thirds of their chord are written as lines, and a closing line
+// as "z" alone.
+void appendShapePath(std::string& out, const FlatShape& shape);
+
+// The subpaths of SVG path data (M m L l H h V v C c Z z, implicit repetition), each closed and
+// in FlatShape's layout (lines as cubics with handles at thirds). Every number must be finite
+// and within ±maxCoordinate; at most maxPoints points in all. On failure returns false with
+// `problem` set.
+bool parseShapePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
+                        std::vector<std::vector<Vec2>>& subpaths, std::string& problem);
+
+// "#rrggbb" or "#rgb" as sRGB 0–1; false for anything else (named colours, rgb(), none, url).
+bool parseHexColour(const std::string& text, Vec3& colour);
+
+}  // namespace gm

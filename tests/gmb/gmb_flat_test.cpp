@@ -1,0 +1,137 @@
+// Flat shapes in .gmb: the SHAP section of versions 1.5 and 2.1.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+
+#include "formats/gmb.h"
+#include "gmb_corpus.h"
+#include "meshcore/error.h"
+#include "meshcore/synthetic_meshes.h"
+
+using namespace gm;
+
+namespace {
+
+const std::string kDir = std::string(GRADMESH_TEST_DATA) + "/gmb/";
+
+std::string decodeError(const std::string& bytes) {
+    try {
+        decodeGmb(bytes, ReadLimits{}, "t.gmb");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// The version in a file's header: major * 100 + minor.
+int versionOf(const std::string& bytes) {
+    return static_cast<int>(gmbtest::getLE(bytes, 8, 2) * 100 + gmbtest::getLE(bytes, 10, 2));
+}
+
+// A lossless 1.5 file whose SHAP payload is replaced by `payload` (sizes and CRC fixed).
+std::string withShapePayload(const std::string& payload) {
+    const std::string file = encodeGmb(makeFlatDocument(), false);
+    const size_t at = file.find("SHAP");
+    REQUIRE(at != std::string::npos);
+    const uint64_t stored = gmbtest::getLE(file, at + 8, 8);
+    std::string out = file.substr(0, at + 8);
+    gmbtest::putLE(out, payload.size(), 8);
+    gmbtest::putLE(out, payload.size(), 8);
+    out += payload;
+    gmbtest::putLE(out, gmbtest::crc32(out, at, out.size()), 4);
+    out += file.substr(at + 24 + stored + 4);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("lossless .gmb keeps flat shapes bit for bit as version 1.5", "[roundtrip][flat]") {
+    const Document doc = makeFlatDocument();
+    const std::string bytes = encodeGmb(doc, false);
+    CHECK(versionOf(bytes) == 105);
+    CHECK(decodeGmb(bytes, ReadLimits{}, "t.gmb") == doc);
+    // Without shapes, the file is the 1.0 file it always was.
+    Document meshesOnly = doc;
+    meshesOnly.shapes.clear();
+    const std::string plain = encodeGmb(meshesOnly, false);
+    CHECK(versionOf(plain) == 100);
+    CHECK(plain.find("SHAP") == std::string::npos);
+    CHECK(gmbtest::encodeV1(meshesOnly, false) == plain);
+}
+
+TEST_CASE("compact .gmb keeps flat shapes to 1/256 px as version 2.1", "[roundtrip][flat]") {
+    const Document doc = makeFlatDocument();
+    for (GmbFraming framing : {GmbFraming::Short, GmbFraming::Long}) {
+        const std::string bytes = encodeGmb(doc, true, 0, GmbStreams::Smaller, framing);
+        CHECK(versionOf(bytes) == (framing == GmbFraming::Short ? 201 : 105));
+        const Document back = decodeGmb(bytes, ReadLimits{}, "t.gmb");
+        REQUIRE(back.shapes.size() == doc.shapes.size());
+        for (size_t k = 0; k < doc.shapes.size(); ++k) {
+            const FlatShape &a = doc.shapes[k], &b = back.shapes[k];
+            CHECK(a.layer == b.layer);
+            for (int c = 0; c < 3; ++c) CHECK(std::fabs(a.col[c] - b.col[c]) <= 0.5 / 65535);
+            REQUIRE(a.subpaths.size() == b.subpaths.size());
+            for (size_t s = 0; s < a.subpaths.size(); ++s) {
+                REQUIRE(a.subpaths[s].size() == b.subpaths[s].size());
+                for (size_t p = 0; p < a.subpaths[s].size(); ++p) {
+                    CHECK(std::fabs(a.subpaths[s][p].x - b.subpaths[s][p].x) <= 1.0 / 512);
+                    CHECK(std::fabs(a.subpaths[s][p].y - b.subpaths[s][p].y) <= 1.0 / 512);
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("golden 1.5 and 2.1 files with flat shapes read", "[golden][flat]") {
+    const Document doc = makeFlatDocument();
+    const std::string lossless = gmbtest::readFile(kDir + "golden-1.5-flat.gmb");
+    REQUIRE_FALSE(lossless.empty());
+    CHECK(decodeGmb(lossless, ReadLimits{}, "golden-1.5-flat.gmb") == doc);
+    CHECK(encodeGmb(doc, false) == lossless);
+    const std::string compact = gmbtest::readFile(kDir + "golden-2.1-flat.gmb");
+    REQUIRE_FALSE(compact.empty());
+    CHECK(decodeGmb(compact, ReadLimits{}, "golden-2.1-flat.gmb").shapes.size() == 2);
+    CHECK(encodeGmb(doc, true) == compact);
+}
+
+TEST_CASE("a file with flat shapes truncated at every byte is refused", "[malformed][flat]") {
+    for (bool compact : {false, true}) {
+        const std::string full = encodeGmb(makeFlatDocument(), compact);
+        for (size_t n = 0; n < full.size(); ++n) {
+            INFO("cut at " << n << (compact ? " (compact)" : ""));
+            CHECK_FALSE(decodeError(full.substr(0, n)).empty());
+        }
+    }
+}
+
+TEST_CASE("SHAP counts beyond the payload are refused before allocating", "[malformed][flat]") {
+    auto shape = [](uint64_t subpaths, uint64_t segments) {
+        std::string p;
+        p += '\x01';  // one shape
+        p += '\x00';  // float64
+        p += '\x00';  // layer 0
+        for (int k = 0; k < 4; ++k) gmbtest::putF64(p, 0.5);
+        for (uint64_t v : {subpaths, segments}) {
+            for (; v >= 0x80; v >>= 7) p += static_cast<char>((v & 0x7f) | 0x80);
+            p += static_cast<char>(v);
+        }
+        return p;
+    };
+    CHECK_THAT(decodeError(withShapePayload(shape(uint64_t(1) << 40, 1))),
+               Catch::Contains("truncated"));
+    CHECK_THAT(decodeError(withShapePayload(shape(1, uint64_t(1) << 50))),
+               Catch::Contains("truncated"));
+    CHECK_THAT(decodeError(withShapePayload(shape(0, 1) + std::string(48, '\0'))),
+               Catch::Contains("without subpaths"));
+    std::string badLayer = shape(1, 1);
+    badLayer[2] = '\x07';
+    for (int k = 0; k < 6; ++k) gmbtest::putF64(badLayer, 1.0);
+    CHECK_THAT(decodeError(withShapePayload(badLayer)),
+               Catch::Contains("mesh that does not exist"));
+}
+
+TEST_CASE("write the golden flat-shape files", "[.generate-flat]") {
+    const Document doc = makeFlatDocument();
+    std::ofstream(kDir + "golden-1.5-flat.gmb", std::ios::binary) << encodeGmb(doc, false);
+    std::ofstream(kDir + "golden-2.1-flat.gmb", std::ios::binary) << encodeGmb(doc, true);
+}
