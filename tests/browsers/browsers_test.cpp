@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -244,7 +245,7 @@ TEST_CASE("Firefox ESR draws the meshes of our SVGs, directly and inline", "[bro
     checkBrowser(Browser::Firefox);
 }
 
-TEST_CASE("the script draws meshes painted through style or the fill attribute, and Inkscape's resaved file",
+TEST_CASE("the script draws meshes painted through style or the fill attribute, with prefixed tags, and Inkscape's resaved file",
           "[browsers][external]") {
     if (!browserAvailable(Browser::Chromium)) {
         WARN("chromium is not installed: skipped");
@@ -278,6 +279,18 @@ TEST_CASE("the script draws meshes painted through style or the fill attribute, 
     checkDrawn(Browser::Chromium, "fill=\"url(#m0)\"",
                compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "attributed.svg",
                                                  apple.width, apple.height, work), 0));
+
+    // Some tools write the SVG elements with a namespace prefix (<svg:meshgradient>, <svg:stop>).
+    std::string prefixed = std::regex_replace(svg, std::regex("<(/?)(meshgradient|meshrow|meshpatch|stop|path)\\b"),
+                                              "<$1svg:$2");
+    const size_t root = prefixed.find("<svg ");
+    REQUIRE(root != std::string::npos);
+    prefixed.insert(root + 4, " xmlns:svg=\"http://www.w3.org/2000/svg\"");
+    REQUIRE(prefixed.find("<svg:stop ") != std::string::npos);
+    writeFile(work / "prefixed.svg", directPage(prefixed));
+    checkDrawn(Browser::Chromium, "<svg:meshgradient>",
+               compareWithOurs(dir, apple, screenshot(Browser::Chromium, work / "prefixed.svg", apple.width,
+                                                 apple.height, work), 0));
 
     // Inkscape's own save of the file (it keeps our script and adds its own).
     if (runCommand("command -v inkscape >/dev/null 2>&1") != 0) {

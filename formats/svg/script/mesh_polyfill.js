@@ -71,7 +71,7 @@
   function stopColour(stop, index, source) {
     const text = (/stop-color:\s*([^;"]*)/.exec(stop) || [])[1] || attribute(stop, 'stop-color') || '#000';
     const hex = (/^\s*#([0-9a-f]{3}|[0-9a-f]{6})\b/i.exec(text) || [])[1];
-    const rgb = hex ? null : numbers(getComputedStyle(source.getElementsByTagName('stop')[index]).stopColor);
+    const rgb = hex ? null : numbers(getComputedStyle(source.querySelectorAll('stop')[index]).stopColor);
     return [0, 1, 2].map((k) => (rgb ? rgb[k] :
       parseInt(hex.length > 3 ? hex.substr(2 * k, 2) : hex[k] + hex[k], 16)) / 255);
   }
@@ -106,11 +106,12 @@
 
   // The rows of the meshgradient `source`, read from its markup (serialised by the browser at
   // once: far faster than visiting each element): per row its patches, per patch the markup of
-  // its attributes, then per stop the markup of its attributes and its index in `source`.
+  // its attributes, then per stop the markup of its attributes and its index in `source`. Tags
+  // may carry a namespace prefix (`<svg:stop>`, as some tools write).
   function meshRows(source) {
     const rows = [];
     let patch = [], index = 0;
-    for (const [, name, attributes] of source.outerHTML.matchAll(/<(meshrow|meshpatch|stop)\b([^>]*)/g))
+    for (const [, name, attributes] of source.outerHTML.matchAll(/<(?:\w+:)?(meshrow|meshpatch|stop)\b([^>]*)/g))
       name == 'stop' ? patch.push([attributes, index++]) :
         name == 'meshrow' ? rows.push([]) : rows.at(-1)?.push(patch = [attributes]);
     return rows;
