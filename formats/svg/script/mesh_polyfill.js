@@ -286,7 +286,7 @@
   // between them. Where two neighbours are cut differently, the chords of their shared edge
   // part by at most twice the position tolerance: both sides get a skirt there, as does every
   // side on the mesh's outline.
-  function drawMesh({Q, colours, bicubic, C, R}, m, pixels, w, h) {
+  function drawMesh({Q, colours, bicubic, C, R}, m, job) {
     const count = Q.length / 32, q = new F64(Q.length), cuts = new Uint8Array(2 * count);
     const points = new F64(8), colour = new F64(12), grid = new F64(5 * (MAX_CELLS + 1) ** 2 + 20);
     for (let i = 0; i < Q.length; i += 2) {
@@ -297,7 +297,7 @@
       cuts[2 * k] = cellsFor(bicubic, q, colours, k, 0);
       cuts[2 * k + 1] = cellsFor(bicubic, q, colours, k, 1);
     }
-    const fill = (i, j, k, under) => fillTriangle(grid, i, j, k, pixels, w, h, under);
+    const fill = (i, j, k, under) => fillTriangle(grid, i, j, k, job, under);
     for (let k = 0, row = 0, column = 0; k < count; k++, ++column < C || (column = 0, row++)) {
       const ns = cuts[2 * k], nt = cuts[2 * k + 1], S = basis(ns, bicubic), T = basis(nt, bicubic), o = 32 * k;
       for (let b = 0, v = 0; b <= nt; b++) {
@@ -356,12 +356,14 @@
     }
   }
 
-  // Fills the triangle of vertices i, j, k (offsets in `vertices`) into the RGBA pixels (w × h):
+  // Fills the triangle of vertices i, j, k (offsets in `vertices`) into the job's RGBA pixels:
   // every pixel whose centre it covers, its edges included, gets the colour interpolated there;
   // `under`: only pixels that nothing has painted yet (a skirt under the patches). The edge
   // functions are exact (integers in fixed point), so that triangles that share an edge leave
-  // no pixel centre between them.
-  function fillTriangle(vertices, i, j, k, pixels, w, h, under) {
+  // no pixel centre between them. Where the job continues the piece before it (`before`), each
+  // pixel is painted in one of the two: a patch's takes it from the other piece, a skirt leaves
+  // it to the other piece if that painted it.
+  function fillTriangle(vertices, i, j, k, {pixels, w, h, x: left, y: top, before}, under) {
     const x0 = vertices[i], y0 = vertices[i + 1], x1 = vertices[j], y1 = vertices[j + 1], x2 = vertices[k], y2 = vertices[k + 1];
     const area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0), sign = area < 0 ? -1 : 1, half = FIXED / 2;
     if (!area) return;
@@ -369,13 +371,18 @@
     const A0 = sign * (y1 - y2), B0 = sign * (x2 - x1), C0 = sign * (x1 * y2 - x2 * y1);
     const A1 = sign * (y2 - y0), B1 = sign * (x0 - x2), C1 = sign * (x2 * y0 - x0 * y2);
     const A2 = sign * (y0 - y1), B2 = sign * (x1 - x0), C2 = sign * (x0 * y1 - x1 * y0);
-    const x = max(0, ceil((min(x0, x1, x2) - half) / FIXED)), xe = min(w - 1, floor((max(x0, x1, x2) - half) / FIXED));
+    const xs = max(0, ceil((min(x0, x1, x2) - half) / FIXED)), xe = min(w - 1, floor((max(x0, x1, x2) - half) / FIXED));
     const ye = min(h - 1, floor((max(y0, y1, y2) - half) / FIXED)), weight = 1 / abs(area);
     for (let y = max(0, ceil((min(y0, y1, y2) - half) / FIXED)); y <= ye; y++) {
-      const px = FIXED * x + half, py = FIXED * y + half;
+      const px = FIXED * xs + half, py = FIXED * y + half, yb = before && y + top - before.y;
       let e0 = A0 * px + B0 * py + C0, e1 = A1 * px + B1 * py + C1, e2 = A2 * px + B2 * py + C2;
-      for (let o = 4 * (y * w + x), end = o + 4 * (xe - x); o <= end; o += 4, e0 += FIXED * A0, e1 += FIXED * A1, e2 += FIXED * A2) {
+      for (let x = xs, o = 4 * (y * w + x); x <= xe; x++, o += 4, e0 += FIXED * A0, e1 += FIXED * A1, e2 += FIXED * A2) {
         if (e0 < 0 || e1 < 0 || e2 < 0 || under && pixels[o + 3]) continue;
+        const xb = before && x + left - before.x, q = before && 4 * (yb * before.w + xb) + 3;
+        if (before && yb >= 0 && yb < before.h && xb >= 0 && xb < before.w) {
+          if (under && before.pixels[q]) continue;
+          if (!under) before.pixels[q] = 0;
+        }
         for (let ch = 2; ch < 5; ch++)
           pixels[o + ch - 2] = weight * (e0 * vertices[i + ch] + e1 * vertices[j + ch] + e2 * vertices[k + ch]);  // rounded by the array
         pixels[o + 3] = 255;
@@ -431,14 +438,26 @@
     return URL.createObjectURL(new Blob([head, pixels], {type: 'image/bmp'}));
   }
 
-  // Draws each job's triangles into pixels of its own, encodes them and paints the shape with
-  // them.
+  // Draws each job's triangles into pixels of its own, then encodes them and paints the shapes
+  // with them. A job whose mesh continues the one before it (the pieces of a mesh with holes, as
+  // our SVGs hold them) shares the pixels along their common row with it (fillTriangle).
   function drawAll(jobs) {
-    for (const j of jobs) {
-      const {w, h, record: {mesh}} = j, pixels = new Uint8ClampedArray(4 * w * h);
-      drawMesh(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine)), pixels, w, h);
-      paint(j, encodeBmp(pixels, w, h));
-    }
+    jobs.forEach((j, k) => {
+      const {w, h, record: {mesh}} = j, previous = jobs[k - 1];
+      j.pixels = new Uint8ClampedArray(4 * w * h);
+      j.before = previous && continues(previous, j) && previous;
+      drawMesh(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine)), j);
+    });
+    for (const j of jobs) paint(j, encodeBmp(j.pixels, j.w, j.h));
+  }
+
+  // Whether job b's mesh continues job a's below it: as many patch columns, and the first row
+  // of b's corners starts and ends where a's last row does, on the screen.
+  function continues(a, b) {
+    const corner = ({m, record: {mesh}}, k) => box(mesh.P[k], multiply(m, mesh.affine));
+    const A = a.record.mesh, B = b.record.mesh, last = A.R * (A.C + 1);
+    return A.C == B.C && [0, A.C].every((c) =>
+      hypot(...corner(a, last + c).slice(0, 2).map((v, n) => v - corner(b, c)[n])) < 0.01);
   }
 
   const drawRecords = (list) => drawAll(list.map(job).filter((j) => j));
