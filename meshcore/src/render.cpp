@@ -8,6 +8,10 @@
 //  4. every painted pixel's colour is the patch's bicubic colour evaluated at its (s,t), and
 //     the layer is composited over the image (later meshes over earlier ones).
 // Strips run on worker threads.
+// Consecutive meshes that share a whole grid row (the hole-free pieces an SVG holds for a mesh
+// with holes, read back) are drawn as one layer: along their shared rows a pixel takes the
+// coverage of their union and the colour of the piece that covers its centre, so that the
+// shared edges are not anti-aliased twice (no seam), as for the mesh they were cut from.
 #include "meshcore/render.h"
 
 #include <algorithm>
@@ -61,6 +65,7 @@ constexpr int kHaloRows = 2;
 // One worker's buffers for a strip and its halo, reused from strip to strip.
 struct StripBuffers {
     std::vector<float> alpha;
+    std::vector<float> unionAlpha;  // joined pieces: the coverage of the piece and its neighbours
     std::vector<LayerSample> samples;
     std::vector<uint8_t> kinds;
     std::vector<double> accumulator;
@@ -125,10 +130,13 @@ void lendSamples(StripBuffers& B, int W, int H) {
 // strip by strip, and composited over the target.
 class LayerRenderer {
 public:
+    // `joined`: the neighbouring pieces this mesh shares a grid row with (drawn into the same
+    // group layer, `target`, which starts transparent).
     LayerRenderer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
-                  Target& target)
+                  Target& target, std::vector<const GradientMesh*> joined = {})
         : mesh_(mesh),
           meshIndex_(meshIndex),
+          joined_(std::move(joined)),
           options_(options),
           target_(target),
           image_(*target.image) {}
@@ -173,8 +181,17 @@ private:
         if (!(tol > 0) || !std::isfinite(tol)) tol = 0.125;
         // Much finer than the triangles: the outline decides alpha, and a chord 1/256 px off
         // the curve changes a pixel's area by under 1/255.
-        loops_ = outlineLoops(mesh_, options_.scale, std::max(std::min(tol, 0.125) / 32, 1e-5));
+        const double chord = std::max(std::min(tol, 0.125) / 32, 1e-5);
+        loops_ = outlineLoops(mesh_, options_.scale, chord);
+        if (joined_.empty()) return;
+        // The shared rows' edges appear in both loops with opposite directions and cancel.
+        unionLoops_ = loops_;
+        for (const GradientMesh* m : joined_)
+            for (std::vector<Vec2>& loop : outlineLoops(*m, options_.scale, chord))
+                unionLoops_.push_back(std::move(loop));
     }
+
+    bool joined() const { return options_.antialias && !joined_.empty(); }
 
     // Layer rows each visible patch touches, inclusive.
     void findPatchRows() {
@@ -210,6 +227,10 @@ private:
         view.y1 = rows;
 
         if (options_.antialias) accumulateCoverage(loops_, view, B.accumulator, B.alpha.data());
+        if (joined()) {
+            B.unionAlpha.assign(n, 0.0f);
+            accumulateCoverage(unionLoops_, view, B.accumulator, B.unionAlpha.data());
+        }
         const size_t owned = rasterizePatches(B, view, core0, core1, ext0, ext1);
         if (options_.antialias) {
             lendSamples(B, width_, rows);
@@ -267,7 +288,16 @@ private:
             if (a == 0.0f && kind == kCentreSample) a = 1.0f;
             if (!(a > 0)) continue;
             const LayerSample& S = B.samples[k];
-            paintPixel(outRow + 4 * static_cast<size_t>(x), S, a);
+            float* out = outRow + 4 * static_cast<size_t>(x);
+            if (joined()) {
+                // A piece's pixel: the union's coverage; a centre it does not cover is left to
+                // the neighbour that does (or has already lent it a colour).
+                if (kind != kCentreSample && out[3] > 0) continue;
+                a = B.unionAlpha[k];
+                if (!(a > 0)) a = 1.0f;
+                out[3] = 0;  // replaces: the group layer holds the pieces side by side
+            }
+            paintPixel(out, S, a);
             if (sampleRow) recordSample(sampleRow[x], S, kind == kCentreSample, a);
         }
     }
@@ -301,18 +331,58 @@ private:
 
     const GradientMesh& mesh_;
     const int meshIndex_;
+    const std::vector<const GradientMesh*> joined_;
     const RenderOptions& options_;
     Target& target_;
     RgbaImage& image_;
     PreparedMesh pm_;
     int originX_ = 0, originY_ = 0, width_ = 0, height_ = 0;
-    std::vector<std::vector<Vec2>> loops_;
+    std::vector<std::vector<Vec2>> loops_, unionLoops_;
     std::vector<int> rowLo_, rowHi_;
 };
 
 void renderLayer(const GradientMesh& mesh, int meshIndex, const RenderOptions& options,
-                 Target& target) {
-    LayerRenderer(mesh, meshIndex, options, target).run();
+                 Target& target, std::vector<const GradientMesh*> joined = {}) {
+    LayerRenderer(mesh, meshIndex, options, target, std::move(joined)).run();
+}
+
+// Whether `lower` continues `upper` below it: as many patch columns, and the two end nodes of
+// upper's last grid row are lower's first row's (the rows may differ between them: a slit).
+bool sharesRow(const GradientMesh& upper, const GradientMesh& lower) {
+    const int C = upper.columns();
+    if (C != lower.columns() || upper.rows() < 1 || lower.rows() < 1) return false;
+    for (int i : {0, C}) {
+        const Vec2 d = upper.node(i, upper.rows()).pos - lower.node(i, 0).pos;
+        if (!(std::fabs(d.x) <= 1e-9 && std::fabs(d.y) <= 1e-9)) return false;
+    }
+    return true;
+}
+
+// Straight-alpha "over" of the group layer onto the image.
+void compositeOver(const RgbaImage& layer, RgbaImage& image) {
+    for (size_t k = 0; k < layer.pixels.size(); k += 4) {
+        const float a = layer.pixels[k + 3];
+        if (!(a > 0)) continue;
+        float* out = &image.pixels[k];
+        const float under = out[3] * (1 - a), total = a + under;
+        for (int c = 0; c < 3; ++c) out[c] = (layer.pixels[k + c] * a + out[c] * under) / total;
+        out[3] = total;
+    }
+}
+
+// Meshes [first, last] joined by shared rows, drawn into one layer composited over the image.
+void renderGroup(const std::vector<const GradientMesh*>& meshes, size_t first, size_t last,
+                 const RenderOptions& options, Target& target) {
+    RgbaImage layer(target.image->width, target.image->height);
+    Target group{&layer, target.samples, target.threads};
+    for (size_t m = first; m <= last; ++m) {
+        std::vector<const GradientMesh*> joined;
+        if (m > first) joined.push_back(meshes[m - 1]);
+        if (m < last) joined.push_back(meshes[m + 1]);
+        renderLayer(*meshes[m], static_cast<int>(m), options, group, std::move(joined));
+    }
+    compositeOver(layer, *target.image);
+    target.triangles += group.triangles;
 }
 
 int outputSide(int canvas, double scale) {
@@ -346,9 +416,21 @@ RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int ca
         for (; nextShape < shapes.size() && shapes[nextShape].layer <= layer; ++nextShape)
             renderShape(shapes[nextShape], options, result.image, target.samples);
     };
-    for (size_t m = 0; m < meshes.size(); ++m) {
+    auto shapeBefore = [&](size_t m) {  // a shape painted between meshes m - 1 and m
+        return std::any_of(shapes.begin(), shapes.end(),
+                           [m](const FlatShape& s) { return s.layer == m; });
+    };
+    for (size_t m = 0; m < meshes.size();) {
         shapesUpTo(m);
-        renderLayer(*meshes[m], static_cast<int>(m), options, target);
+        size_t last = m;
+        while (options.antialias && last + 1 < meshes.size() && !shapeBefore(last + 1) &&
+               sharesRow(*meshes[last], *meshes[last + 1]))
+            ++last;
+        if (last == m)
+            renderLayer(*meshes[m], static_cast<int>(m), options, target);
+        else
+            renderGroup(meshes, m, last, options, target);
+        m = last + 1;
     }
     shapesUpTo(SIZE_MAX);
     result.triangles = target.triangles;

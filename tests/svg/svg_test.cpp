@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "formats/atomic_file.h"
 #include "formats/svg.h"
 #include "meshcore/error.h"
+#include "meshcore/bezier_patch.h"
 #include "meshcore/evaluate.h"
 #include "support/compare.h"
 #include "svg_test_support.h"
@@ -172,6 +174,82 @@ TEST_CASE("svg writes a mesh with holes as its legacy pieces", "[svg]") {
     const gmtest::DiffStats d =
         gmtest::compareInterior(svgtest::renderOurs(doc), svgtest::renderOverWhite(back), 1);
     std::printf("[svg figures] editable legacy round trip re-render: mean %.4f max %.4f\n", d.mean, d.max);
+}
+
+// Pixels within 1 px of the grid rows where `mesh` has slits (where its SVG pieces meet), over
+// the whole width of the mesh, that are opaque in `mask` (the mesh's own render) and where
+// `pieces` differs from `whole` (both over white) by more than `threshold` (0–1) in a channel.
+size_t differingAlongSlitRows(const GradientMesh& mesh, const RgbaImage& mask, const RgbaImage& whole,
+                              const RgbaImage& pieces, float threshold) {
+    std::vector<char> near(static_cast<size_t>(whole.width) * whole.height, 0);
+    for (const Slit& slit : mesh.slits)
+        for (int i = 0; i < mesh.columns(); ++i) {
+            const BezierPatch bz = toBezier(mesh, i, slit.row);  // its top edge is the cut row
+            for (int k = 0; k <= 64; ++k) {
+                const double t = k / 64.0, u = 1 - t;
+                const Vec2 p = u * u * u * bz.p[0][0] + 3 * u * u * t * bz.p[1][0] +
+                               3 * u * t * t * bz.p[2][0] + t * t * t * bz.p[3][0];
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int x = static_cast<int>(std::floor(p.x)) + dx, y = static_cast<int>(std::floor(p.y)) + dy;
+                        if (x >= 0 && y >= 0 && x < whole.width && y < whole.height)
+                            near[static_cast<size_t>(y) * whole.width + x] = 1;
+                    }
+            }
+        }
+    size_t differing = 0;
+    for (int y = 0; y < whole.height; ++y)
+        for (int x = 0; x < whole.width; ++x) {
+            if (!near[static_cast<size_t>(y) * whole.width + x] || mask.at(x, y)[3] < 1.0f) continue;
+            bool differs = false;
+            for (int c = 0; c < 3; ++c) differs = differs || std::fabs(whole.at(x, y)[c] - pieces.at(x, y)[c]) > threshold;
+            differing += differs;
+        }
+    return differing;
+}
+
+TEST_CASE("a mesh with holes read back from its SVG pieces renders without seams where they meet", "[svg]") {
+    // The pieces share their cut rows; drawn one by one, each anti-aliased its side of them and
+    // the background showed through a faint line along every cut row.
+    Document doc = svgtest::holedDocument();
+    GradientMesh& mesh = doc.meshes[0];
+    // Bicubic colours (what the SVG holds exactly), and the mesh turned by 3° about a point
+    // off the pixel grid, so that no cut row runs along pixel boundaries.
+    mesh.colorModel = ColorModel::Bicubic;
+    const double c = std::cos(0.05), s = std::sin(0.05);
+    auto turn = [&](Vec2 v, bool point) {
+        return Vec2{c * v.x - s * v.y + (point ? 12.37 : 0), s * v.x + c * v.y + (point ? -6.21 : 0)};
+    };
+    auto adjust = [&](Node& n) {
+        n.pos = turn(n.pos, true);
+        n.posU = turn(n.posU, false);
+        n.posV = turn(n.posV, false);
+        n.colU = n.colV = Vec3{};
+    };
+    for (Node& n : mesh.nodes) adjust(n);
+    for (Slit& slit : mesh.slits) {
+        for (Node& n : slit.below) adjust(n);
+        slit.left.posU = turn(slit.left.posU, false);
+        slit.right.posU = turn(slit.right.posU, false);
+        slit.left.colU = slit.right.colU = Vec3{};
+    }
+    const Document back = decodeSvg(encodeSvg(doc, editable()), ReadLimits{});
+    REQUIRE(back.meshes.size() == 4);
+    const RgbaImage mask = renderDocument(doc).image;
+    RgbaImage whole = mask, pieces = renderDocument(back).image;
+    gm::compositeOver(whole, {1, 1, 1, 1});
+    gm::compositeOver(pieces, {1, 1, 1, 1});
+    const size_t differing = differingAlongSlitRows(doc.meshes[0], mask, whole, pieces, 4.0f / 255);
+    std::printf("[svg figures] pieces of a holed mesh: %zu px along the cut rows differ by more than 4/255\n",
+                differing);
+    CHECK(differing == 0);
+    // Pieces drawn alone (no neighbour to join) keep their own anti-aliased outline.
+    Document first = back;
+    first.meshes.resize(1);
+    const RgbaImage alone = renderDocument(first).image;
+    size_t partial = 0;
+    for (size_t k = 3; k < alone.pixels.size(); k += 4) partial += alone.pixels[k] > 0 && alone.pixels[k] < 1;
+    CHECK(partial > 0);
 }
 
 TEST_CASE("svg format is registered and writes atomically", "[svg]") {

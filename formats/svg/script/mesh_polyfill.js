@@ -71,7 +71,7 @@
   function stopColour(stop, index, source) {
     const text = (/stop-color:\s*([^;"]*)/.exec(stop) || [])[1] || attribute(stop, 'stop-color') || '#000';
     const hex = (/^\s*#([0-9a-f]{3}|[0-9a-f]{6})\b/i.exec(text) || [])[1];
-    const rgb = hex ? null : numbers(getComputedStyle(source.getElementsByTagName('stop')[index]).stopColor);
+    const rgb = hex ? null : numbers(getComputedStyle(source.querySelectorAll('stop')[index]).stopColor);
     return [0, 1, 2].map((k) => (rgb ? rgb[k] :
       parseInt(hex.length > 3 ? hex.substr(2 * k, 2) : hex[k] + hex[k], 16)) / 255);
   }
@@ -106,11 +106,12 @@
 
   // The rows of the meshgradient `source`, read from its markup (serialised by the browser at
   // once: far faster than visiting each element): per row its patches, per patch the markup of
-  // its attributes, then per stop the markup of its attributes and its index in `source`.
+  // its attributes, then per stop the markup of its attributes and its index in `source`. Tags
+  // may carry a namespace prefix (`<svg:stop>`, as some tools write).
   function meshRows(source) {
     const rows = [];
     let patch = [], index = 0;
-    for (const [, name, attributes] of source.outerHTML.matchAll(/<(meshrow|meshpatch|stop)\b([^>]*)/g))
+    for (const [, name, attributes] of source.outerHTML.matchAll(/<(?:\w+:)?(meshrow|meshpatch|stop)\b([^>]*)/g))
       name == 'stop' ? patch.push([attributes, index++]) :
         name == 'meshrow' ? rows.push([]) : rows.at(-1)?.push(patch = [attributes]);
     return rows;
@@ -161,16 +162,18 @@
 
   // ---- Colour slopes -----------------------------------------------------------------------
 
-  // The SVG 2 bicubic rule along one line of corners (positions `pos`, colours `col`): per
-  // corner the slope g of each channel (colour per unit length), and the chords L.
-  function lineSlopes(pos, col) {
-    const N = pos.length - 1, L = [];
-    for (let n = 0; n < N; n++) L[n] = hypot(pos[n + 1][0] - pos[n][0], pos[n + 1][1] - pos[n][1]);
+  // The SVG 2 bicubic rule along the line of corners `at` (indices into P and into rgb, the
+  // corners' colours, 3 numbers each): per segment n of the line, the slope g of each channel
+  // (colour per unit length) at its start and at its end times its chord L (6 numbers from 6 n).
+  function lineSlopes(at, P, rgb) {
+    const N = at.length - 1, L = [], g = new F64(3 * N + 3), out = new F64(6 * N);
+    for (let n = 0; n < N; n++) L[n] = hypot(P[at[n + 1]][0] - P[at[n]][0], P[at[n + 1]][1] - P[at[n]][1]);
+    const col = (n, ch) => rgb[3 * at[n] + ch];
     const interior = (k, ch) => {
       if (!(L[k - 1] > 0 && L[k] > 0)) return 0;
-      const before = col[k - 1][ch], at = col[k][ch], after = col[k + 1][ch];
-      if ((before < at && at > after) || (before > at && at < after)) return 0;  // extremum
-      const sb = (at - before) / L[k - 1], sa = (after - at) / L[k];
+      const before = col(k - 1, ch), here = col(k, ch), after = col(k + 1, ch);
+      if ((before < here && here > after) || (before > here && here < after)) return 0;  // extremum
+      const sb = (here - before) / L[k - 1], sa = (after - here) / L[k];
       let s = (sb + sa) / 2;
       if (abs(s) > abs(3 * sb)) s = 3 * sb;
       if (abs(s) > abs(3 * sa)) s = 3 * sa;
@@ -178,31 +181,32 @@
     };
     // Parabolic ends: 2δ − g of the neighbour; with one patch the last end sees g_0 unset (0).
     const end = (edge, k, ch) => !(L[edge] > 0) ? 0 : N == 1 && k ? 0 :
-      2 * (col[edge + 1][ch] - col[edge][ch]) / L[edge] - (N == 1 ? 0 : interior(k ? N - 1 : 1, ch));
-    const g = [];
+      2 * (col(edge + 1, ch) - col(edge, ch)) / L[edge] - (N == 1 ? 0 : interior(k ? N - 1 : 1, ch));
     for (let n = 0; n <= N; n++)
-      g[n] = [0, 1, 2].map((ch) => n == 0 ? end(0, 0, ch) : n == N ? end(N - 1, 1, ch) : interior(n, ch));
-    return {g, L};
+      for (let ch = 0; ch < 3; ch++) g[3 * n + ch] = n == 0 ? end(0, 0, ch) : n == N ? end(N - 1, 1, ch) : interior(n, ch);
+    for (let n = 0; n < N; n++)
+      for (let i = 0; i < 6; i++) out[6 * n + i] = L[n] * g[3 * n + i];
+    return out;
   }
 
   // Per patch k, 36 numbers from 36 k: for its corners (a, b) in the order 00, 01, 10, 11, the
   // colour and its slopes along s and along t per unit of the patch parameter (3 each), from
   // the rows' and the columns' lines.
   function patchColours(mesh) {
-    const {C, R, P, colour} = mesh, W = C + 1;
-    const line = (at) => lineSlopes(at.map((k) => P[k]), at.map((k) => colour[k] || [0, 0, 0]));
+    const {C, R, P, colour} = mesh, W = C + 1, rgb = new F64(3 * W * (R + 1));
+    colour.forEach((c, i) => rgb.set(c, 3 * i));  // a corner without a colour is black
     const range = (count, f) => [...Array(count).keys()].map(f);
-    const rows = range(R + 1, (r) => line(range(W, (n) => r * W + n)));
-    const cols = range(W, (c) => line(range(R + 1, (n) => n * W + c)));
+    const rows = range(R + 1, (r) => lineSlopes(range(W, (n) => r * W + n), P, rgb));
+    const cols = range(W, (c) => lineSlopes(range(R + 1, (n) => n * W + c), P, rgb));
     const out = mesh.colours = new F64(36 * R * C);
     for (let r = 0, o = 0; r < R; r++)
       for (let c = 0; c < C; c++)
         for (let a = 0; a < 2; a++)
           for (let b = 0; b < 2; b++, o += 9)
             for (let ch = 0; ch < 3; ch++) {
-              out[o + ch] = (colour[(r + b) * W + c + a] || [0, 0, 0])[ch];
-              out[o + 3 + ch] = rows[r + b].L[c] * rows[r + b].g[c + a][ch];
-              out[o + 6 + ch] = cols[c + a].L[r] * cols[c + a].g[r + b][ch];
+              out[o + ch] = rgb[3 * ((r + b) * W + c + a) + ch];
+              out[o + 3 + ch] = rows[r + b][6 * c + 3 * a + ch];
+              out[o + 6 + ch] = cols[c + a][6 * r + 3 * b + ch];
             }
   }
 
@@ -211,50 +215,42 @@
   // The 4×4 control nets of the patches, 32 numbers per patch from 32 k: point q[a][b] (a along
   // s) at 8 a + 2 b, in the meshgradient's coordinates.
   function controlNets(mesh) {
-    const {C, R, P, H, V} = mesh, W = C + 1, Q = mesh.Q = new F64(32 * R * C);
-    for (let r = 0; r < R; r++)
-      for (let c = 0; c < C; c++) {
-        const t = mesh.tensor[r * C + c], top = H[r * C + c], bottom = H[(r + 1) * C + c], left = V[r * W + c];
-        const right = V[r * W + c + 1];
-        const corners = [P[r * W + c], P[r * W + c + 1], P[(r + 1) * W + c + 1], P[(r + 1) * W + c]];
-        const q = [[corners[0], left[0], left[1], corners[3]], [top[0], , , bottom[0]],
-                   [top[1], , , bottom[1]], [corners[1], right[0], right[1], corners[2]]];
-        // Interior points next to corners 00, 30, 33, 03, as `tensor` lists them.
-        [[1, 1], [2, 1], [2, 2], [1, 2]].forEach(([a, b], k) => {
-          q[a][b] = t.length > 7 ? [corners[k][0] + t[2 * k], corners[k][1] + t[2 * k + 1]] :
-            coonsInterior(q, a > 1, b > 1);
+    const {C, R, P, H, V, tensor} = mesh, W = C + 1, Q = mesh.Q = new F64(32 * R * C);
+    for (let r = 0, k = 0; r < R; r++)
+      for (let c = 0; c < C; c++, k++) {
+        const o = 32 * k, t = tensor[k], top = H[k], bottom = H[k + C], left = V[r * W + c], right = V[r * W + c + 1];
+        // The boundary points, column by column (the holes are the interior points).
+        [P[r * W + c], left[0], left[1], P[(r + 1) * W + c], top[0], , , bottom[0], top[1], , , bottom[1],
+         P[r * W + c + 1], right[0], right[1], P[(r + 1) * W + c + 1]].forEach((p, i) => Q.set(p, o + 2 * i));
+        // Interior points next to corners 00, 30, 33, 03, as `tensor` lists them: the corner
+        // plus the tensor's offset, else the interior point of the Coons patch (PDF reference,
+        // type 6 shading as type 7) from the boundary points as COONS weighs them (ninths).
+        [0, 24, 30, 6].forEach((corner, n) => {
+          const mirrorS = corner > 8, mirrorT = corner % 8 > 0, at = o + (mirrorS ? 16 : 8) + (mirrorT ? 4 : 2);
+          for (let d = 0; d < 2; d++)
+            Q[at + d] = t.length > 7 ? Q[o + corner + d] + t[2 * n + d] : COONS.reduce((sum, [a, b, w]) =>
+              sum + w * Q[o + 8 * (mirrorS ? 3 - a : a) + 2 * (mirrorT ? 3 - b : b) + d] / 9, 0);
         });
-        Q.set(q.flat(2), 32 * (r * C + c));
       }
   }
 
-  // The interior point of a Coons patch written as a tensor patch, next to corner
-  // q[mirrorS ? 3 : 0][mirrorT ? 3 : 0] (PDF reference, type 6 shading as type 7): weights
-  // (ninths) of the boundary points [a, b].
   const COONS = [[0, 0, -4], [1, 0, 6], [0, 1, 6], [3, 0, -2], [0, 3, -2], [1, 3, 3], [3, 1, 3], [3, 3, -1]];
-  function coonsInterior(q, mirrorS, mirrorT) {
-    const p = [0, 0];
-    for (const [a, b, w] of COONS) {
-      const v = q[mirrorS ? 3 - a : a][mirrorT ? 3 - b : b];
-      p[0] += w * v[0] / 9;
-      p[1] += w * v[1] / 9;
-    }
-    return p;
-  }
 
   // Cells along s (along = 0) or t (1) that keep patch k's triangles within the tolerances:
   // for the position from its control net q (device px) by the second differences and twists,
   // for the colour from the Hermite data (basis second derivatives are at most 6 for values, 4
   // for slopes), but no smaller than SMALLEST_CELL for the colour's sake.
   function cellsFor(bicubic, q, colours, k, along) {
-    const x = (i, j, c) => q[32 * k + 2 * (along ? 4 * j + i : 4 * i + j) + c];
-    const d = (f) => hypot(f(0), f(1));
+    // Point (i, j) of the net, i along the direction, is at p + i di + j dj.
+    const di = along ? 2 : 8, dj = 10 - di, square = (x, y) => x * x + y * y;
     let bend = 0, twist = 0, length = 0, colour = 0;
-    for (let j = 0; j < 4; j++)
+    for (let j = 0, p; j < 4; j++)
       for (let i = 0; i < 3; i++) {
-        length = max(length, 3 * d((c) => x(i + 1, j, c) - x(i, j, c)));
-        if (i < 2) bend = max(bend, d((c) => x(i + 2, j, c) - 2 * x(i + 1, j, c) + x(i, j, c)));
-        if (j < 3) twist = max(twist, d((c) => x(i + 1, j + 1, c) - x(i + 1, j, c) - x(i, j + 1, c) + x(i, j, c)));
+        p = 32 * k + i * di + j * dj;
+        length = max(length, square(q[p + di] - q[p], q[p + di + 1] - q[p + 1]));
+        if (i < 2) bend = max(bend, square(q[p + 2 * di] - 2 * q[p + di] + q[p], q[p + 2 * di + 1] - 2 * q[p + di + 1] + q[p + 1]));
+        if (j < 3) twist = max(twist, square(q[p + di + dj] - q[p + di] - q[p + dj] + q[p],
+          q[p + di + dj + 1] - q[p + di + 1] - q[p + dj + 1] + q[p + 1]));
       }
     for (let b = 0; b < 2 && bicubic; b++)
       for (let ch = 0; ch < 3; ch++) {
@@ -262,8 +258,8 @@
         const c0 = 36 * k + 9 * (along ? 2 * b : b) + ch, c1 = c0 + (along ? 9 : 18), s = along ? 6 : 3;
         colour = max(colour, 6 * abs(colours[c1] - colours[c0]) + 4 * abs(colours[c0 + s]) + 4 * abs(colours[c1 + s]));
       }
-    const n = max(sqrt((6 * bend + 9 * twist) / (4 * POSITION_TOLERANCE)),
-                       min(sqrt(colour / (8 * COLOUR_TOLERANCE)), length / SMALLEST_CELL));
+    const n = max(sqrt((6 * sqrt(bend) + 9 * sqrt(twist)) / (4 * POSITION_TOLERANCE)),
+                       min(sqrt(colour / (8 * COLOUR_TOLERANCE)), 3 * sqrt(length) / SMALLEST_CELL));
     return min(MAX_CELLS, ceil(n) || 1);
   }
 
@@ -280,29 +276,31 @@
     return table;
   }
 
-  // The meshgradient as triangles through the affine transform m (device pixels): vertices
-  // (x, y and the colour r, g, b 0–1, 5 numbers each) and vertex indices, each patch a grid of
-  // cells of its own. Where two neighbours are cut differently, the chords of their shared edge
-  // part by at most twice the position tolerance; their skirts cover any pixel centre between
-  // them. The skirts' triangles come first, so the patches' own are drawn over them.
-  function tessellate({Q, colours, bicubic}, m) {
+  // Vertices hold x and y in fixed point (FIXED units a device pixel, so that the triangles'
+  // edge functions are exact integers) and the colour r, g, b 0–255: 5 numbers each.
+  const FIXED = 256;
+
+  // Draws the meshgradient through the affine transform m (device pixels) into the RGBA pixels
+  // (w × h): each patch is a grid of cells of its own, two triangles each. Neighbours cut alike
+  // share their edge's vertices exactly, and the triangles' fill rule leaves no pixel centre
+  // between them. Where two neighbours are cut differently, the chords of their shared edge
+  // part by at most twice the position tolerance: both sides get a skirt there, as does every
+  // side on the mesh's outline.
+  function drawMesh({Q, colours, bicubic, C, R}, m, job) {
     const count = Q.length / 32, q = new F64(Q.length), cuts = new Uint8Array(2 * count);
-    const points = new F64(8), colour = new F64(12);
-    let cells = 0, v = 0, n, skirt = 0;
+    const points = new F64(8), colour = new F64(12), grid = new F64(5 * (MAX_CELLS + 1) ** 2 + 20);
     for (let i = 0; i < Q.length; i += 2) {
       q[i] = m[0] * Q[i] + m[2] * Q[i + 1] + m[4];
       q[i + 1] = m[1] * Q[i] + m[3] * Q[i + 1] + m[5];
     }
     for (let k = 0; k < count; k++) {
-      const ns = cuts[2 * k] = cellsFor(bicubic, q, colours, k, 0), nt = cuts[2 * k + 1] = cellsFor(bicubic, q, colours, k, 1);
-      // At least the grid's vertices and two per border vertex, and its cells and a quad per
-      // border edge (the triangles of vertex 0 left over are empty).
-      cells += (ns + 5) * (nt + 5);
+      cuts[2 * k] = cellsFor(bicubic, q, colours, k, 0);
+      cuts[2 * k + 1] = cellsFor(bicubic, q, colours, k, 1);
     }
-    const xy = new Float32Array(5 * cells), indices = new Uint32Array(n = 6 * cells);
-    for (let k = 0; k < count; k++) {
+    const fill = (i, j, k, under) => fillTriangle(grid, i, j, k, job, under);
+    for (let k = 0, row = 0, column = 0; k < count; k++, ++column < C || (column = 0, row++)) {
       const ns = cuts[2 * k], nt = cuts[2 * k + 1], S = basis(ns, bicubic), T = basis(nt, bicubic), o = 32 * k;
-      for (let b = 0; b <= nt; b++) {
+      for (let b = 0, v = 0; b <= nt; b++) {
         // The patch at this t: control points along s, and for the corner columns i = 0, 1 the
         // colour and its slope along s (colour[6 i], colour[6 i + 3]).
         const t = 8 * b;
@@ -316,71 +314,79 @@
             T[t + 7] * colours[c + 15];
           colour[i + 3 + 3 * (i > 2)] = T[t + 4] * colours[c + 3] + T[t + 5] * colours[c + 12];
         }
-        for (let a = 0; a <= ns; a++, v++) {
+        for (let a = 0; a <= ns; a++, v += 5) {
           const s = 8 * a;
           for (let c = 0; c < 2; c++)
-            xy[5 * v + c] = S[s] * points[c] + S[s + 1] * points[2 + c] + S[s + 2] * points[4 + c] + S[s + 3] * points[6 + c];
+            grid[v + c] = Math.round(FIXED * (S[s] * points[c] + S[s + 1] * points[2 + c] + S[s + 2] * points[4 + c] +
+              S[s + 3] * points[6 + c]));
           for (let ch = 0; ch < 3; ch++)
-            xy[5 * v + 2 + ch] = S[s + 4] * colour[ch] + S[s + 5] * colour[6 + ch] + S[s + 6] * colour[3 + ch] +
-              S[s + 7] * colour[9 + ch];
-          if (a < ns && b < nt) {  // the cell's two triangles, from the end of indices
-            n -= 6;
-            indices[n] = indices[n + 3] = v;
-            indices[n + 1] = v + 1;
-            indices[n + 2] = indices[n + 4] = v + ns + 2;
-            indices[n + 5] = v + ns + 1;
+            grid[v + 2 + ch] = 255 * (S[s + 4] * colour[ch] + S[s + 5] * colour[6 + ch] + S[s + 6] * colour[3 + ch] +
+              S[s + 7] * colour[9 + ch]);
+          if (a && b) {  // the cell whose bottom right corner this is
+            const above = v - 5 * (ns + 1);
+            fill(above - 5, above, v, 0);
+            fill(above - 5, v, v - 5, 0);
           }
         }
       }
-      skirt = addSkirt(xy, indices, v - (ns + 1) * (nt + 1), ns, v, skirt);
-      v += 4 * (ns + nt);
+      // Skirts: top, bottom (along s), left, right (along t).
+      const W = 5 * (ns + 1), bottom = W * nt;
+      if (!row || cuts[2 * k - 2 * C] != ns) skirt(0, 5, ns);
+      if (row == R - 1 || cuts[2 * k + 2 * C] != ns) skirt(bottom, 5, ns);
+      if (!column || cuts[2 * k - 1] != nt) skirt(0, W, nt);
+      if (column == C - 1 || cuts[2 * k + 3] != nt) skirt(W - 5, W, nt);
     }
-    return {xy, indices};
-  }
 
-  // The skirt of the patch whose (ns + 1)-wide grid of vertices starts at `grid`: its border
-  // vertices each moved SKIRT px both ways along the border's normal, keeping their colour, as
-  // vertices from v on, and quads between them as indices from `at` on; returns their end.
-  function addSkirt(xy, indices, grid, ns, v, at) {
-    const border = [], W = ns + 1, nt = (v - grid) / W - 1;
-    for (let side = 0, a = 0, b = 0; side < 4; side++)  // along s, then t, then back
-      for (let i = side % 2 ? nt : ns; i--; side % 2 ? b += 2 - side : a += 1 - side) border.push(grid + b * W + a);
-    border.forEach((p, i) => {
-      const next = 5 * border[(i + 1) % border.length], previous = 5 * border.at(i - 1);
-      const dx = xy[next] - xy[previous], dy = xy[next + 1] - xy[previous + 1], f = SKIRT / (hypot(dx, dy) || 1e9);
-      for (let side = -1; side < 2; side += 2, v++) {
-        xy.copyWithin(5 * v, 5 * p, 5 * p + 5);
-        xy[5 * v] -= side * f * dy;
-        xy[5 * v + 1] += side * f * dx;
-      }
-      const here = v - 2, there = here + 2 * ((i + 1) % border.length - i);  // the next vertex's pair
-      indices.set([here, here + 1, there, here + 1, there + 1, there], at);
-      at += 6;
-    });
-    return at;
-  }
-
-  // ---- Drawing -----------------------------------------------------------------------------
-
-  // Draws the triangles into the RGBA pixels (w wide) in script (the canvas 2D fallback): every
-  // pixel whose centre a triangle covers (edges included) gets the colour interpolated there.
-  // The triangles lie within the pixels' rows (a write outside a typed array is ignored).
-  function drawSoftware({xy, indices}, pixels, w) {
-    for (let k = 0; k < indices.length; k += 3) {
-      const i0 = 5 * indices[k], i1 = 5 * indices[k + 1], i2 = 5 * indices[k + 2], x0 = xy[i0], y0 = xy[i0 + 1];
-      const dx1 = xy[i1] - x0, dy1 = xy[i1 + 1] - y0, dx2 = xy[i2] - x0, dy2 = xy[i2 + 1] - y0;
-      const area = dx1 * dy2 - dx2 * dy1, xe = min(w, x0 + max(0, dx1, dx2)), ye = y0 + max(0, dy1, dy2);
-      for (let y = floor(y0 + min(0, dy1, dy2)); area && y < ye; y++)
-        for (let x = max(0, floor(x0 + min(0, dx1, dx2))); x < xe; x++) {
-          // Barycentric weights of vertices 1 and 2 at the pixel centre.
-          const px = x + 0.5 - x0, py = y + 0.5 - y0;
-          const w1 = (px * dy2 - dx2 * py) / area, w2 = (dx1 * py - px * dy1) / area, w0 = 1 - w1 - w2;
-          if (min(w0, w1, w2) < 0) continue;
-          const o = 4 * (y * w + x);
-          for (let ch = 0; ch < 3; ch++)
-            pixels[o + ch] = 255 * (w0 * xy[i0 + 2 + ch] + w1 * xy[i1 + 2 + ch] + w2 * xy[i2 + 2 + ch]);  // rounded by the array
-          pixels[o + 3] = 255;
+    // The skirt along n segments of the grid's vertices from `first` on, `step` apart: each
+    // segment a quad SKIRT px to either side of it and beyond its ends, the colours of its ends.
+    function skirt(first, step, n) {
+      for (let i = 0, p = first, e = grid.length - 20; i < n; i++, p += step) {
+        const dx = grid[p + step] - grid[p], dy = grid[p + step + 1] - grid[p + 1], f = FIXED * SKIRT / (hypot(dx, dy) || 1e9);
+        const ux = f * dx, uy = f * dy;
+        // Four vertices at the end of the grid's scratch space: the start's two, the end's two.
+        for (let v = 0; v < 4; v++) {
+          const from = v < 2 ? p : p + step, side = v % 2 ? 1 : -1, along = v < 2 ? -1 : 1;
+          grid.copyWithin(e + 5 * v, from, from + 5);
+          grid[e + 5 * v] = Math.round(grid[from] + along * ux - side * uy);
+          grid[e + 5 * v + 1] = Math.round(grid[from + 1] + along * uy + side * ux);
         }
+        fill(e, e + 5, e + 15, 1);
+        fill(e, e + 15, e + 10, 1);
+      }
+    }
+  }
+
+  // Fills the triangle of vertices i, j, k (offsets in `vertices`) into the job's RGBA pixels:
+  // every pixel whose centre it covers, its edges included, gets the colour interpolated there;
+  // `under`: only pixels that nothing has painted yet (a skirt under the patches). The edge
+  // functions are exact (integers in fixed point), so that triangles that share an edge leave
+  // no pixel centre between them. Where the job continues the piece before it (`before`), each
+  // pixel is painted in one of the two: a patch's takes it from the other piece, a skirt leaves
+  // it to the other piece if that painted it.
+  function fillTriangle(vertices, i, j, k, {pixels, w, h, x: left, y: top, before}, under) {
+    const x0 = vertices[i], y0 = vertices[i + 1], x1 = vertices[j], y1 = vertices[j + 1], x2 = vertices[k], y2 = vertices[k + 1];
+    const area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0), sign = area < 0 ? -1 : 1, half = FIXED / 2;
+    if (!area) return;
+    // Edge function e_n = A_n x + B_n y + C_n: |area| at vertex n, 0 on the opposite edge.
+    const A0 = sign * (y1 - y2), B0 = sign * (x2 - x1), C0 = sign * (x1 * y2 - x2 * y1);
+    const A1 = sign * (y2 - y0), B1 = sign * (x0 - x2), C1 = sign * (x2 * y0 - x0 * y2);
+    const A2 = sign * (y0 - y1), B2 = sign * (x1 - x0), C2 = sign * (x0 * y1 - x1 * y0);
+    const xs = max(0, ceil((min(x0, x1, x2) - half) / FIXED)), xe = min(w - 1, floor((max(x0, x1, x2) - half) / FIXED));
+    const ye = min(h - 1, floor((max(y0, y1, y2) - half) / FIXED)), weight = 1 / abs(area);
+    for (let y = max(0, ceil((min(y0, y1, y2) - half) / FIXED)); y <= ye; y++) {
+      const px = FIXED * xs + half, py = FIXED * y + half, yb = before && y + top - before.y;
+      let e0 = A0 * px + B0 * py + C0, e1 = A1 * px + B1 * py + C1, e2 = A2 * px + B2 * py + C2;
+      for (let x = xs, o = 4 * (y * w + x); x <= xe; x++, o += 4, e0 += FIXED * A0, e1 += FIXED * A1, e2 += FIXED * A2) {
+        if (e0 < 0 || e1 < 0 || e2 < 0 || under && pixels[o + 3]) continue;
+        const xb = before && x + left - before.x, q = before && 4 * (yb * before.w + xb) + 3;
+        if (before && yb >= 0 && yb < before.h && xb >= 0 && xb < before.w) {
+          if (under && before.pixels[q]) continue;
+          if (!under) before.pixels[q] = 0;
+        }
+        for (let ch = 2; ch < 5; ch++)
+          pixels[o + ch - 2] = weight * (e0 * vertices[i + ch] + e1 * vertices[j + ch] + e2 * vertices[k + ch]);  // rounded by the array
+        pixels[o + 3] = 255;
+      }
     }
   }
 
@@ -418,17 +424,40 @@
     return {record, m, x, y, w: ceil(b[2]) + 3 - x, h: ceil(b[3]) + 3 - y};
   }
 
-  // Draws each job's triangles into pixels of its own, puts them on a canvas and paints the
-  // shape with it.
+  // The RGBA pixels (w × h, top row first) as a BMP, which browsers decode with their alpha
+  // (a BITMAPV4HEADER with bit masks in the pixels' byte order): making it costs one header,
+  // where the canvas's PNG encoder compresses (far slower for a whole image's meshes) and a
+  // data: URL is base64. Returns a blob: URL.
+  function encodeBmp(pixels, w, h) {
+    const head = new DataView(new ArrayBuffer(122));
+    // 'BM', the file's size, the pixels' offset; the header's size, w, −h (top-down), 1 plane
+    // of 32 bits, bit fields: the masks of R, G, B, A; the sRGB colour space.
+    [[0, 0x4d42 | pixels.length + 122 << 16], [4, pixels.length + 122 >> 16], [10, 122], [14, 108], [18, w],
+     [22, -h], [26, 0x200001], [30, 3], [54, 255], [58, 0xff00], [62, 0xff0000], [66, -1 << 24],
+     [70, 0x73524742]].forEach(([at, value]) => head.setInt32(at, value, 1));
+    return URL.createObjectURL(new Blob([head, pixels], {type: 'image/bmp'}));
+  }
+
+  // Draws each job's triangles into pixels of its own, then encodes them and paints the shapes
+  // with them. A job whose mesh continues the one before it (the pieces of a mesh with holes, as
+  // our SVGs hold them) shares the pixels along their common row with it (fillTriangle).
   function drawAll(jobs) {
-    for (const j of jobs) {
-      const {w, h, record: {mesh}} = j, pixels = new Uint8ClampedArray(4 * w * h), canvas = create('canvas');
-      drawSoftware(tessellate(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine))), pixels, w);
-      canvas.width = w;
-      canvas.height = h;
-      canvas.getContext('2d').putImageData(new ImageData(pixels, w), 0, 0);
-      paint(j, canvas.toDataURL());
-    }
+    jobs.forEach((j, k) => {
+      const {w, h, record: {mesh}} = j, previous = jobs[k - 1];
+      j.pixels = new Uint8ClampedArray(4 * w * h);
+      j.before = previous && continues(previous, j) && previous;
+      drawMesh(mesh, multiply([1, 0, 0, 1, -j.x, -j.y], multiply(j.m, mesh.affine)), j);
+    });
+    for (const j of jobs) paint(j, encodeBmp(j.pixels, j.w, j.h));
+  }
+
+  // Whether job b's mesh continues job a's below it: as many patch columns, and the first row
+  // of b's corners starts and ends where a's last row does, on the screen.
+  function continues(a, b) {
+    const corner = ({m, record: {mesh}}, k) => box(mesh.P[k], multiply(m, mesh.affine));
+    const A = a.record.mesh, B = b.record.mesh, last = A.R * (A.C + 1);
+    return A.C == B.C && [0, A.C].every((c) =>
+      hypot(...corner(a, last + c).slice(0, 2).map((v, n) => v - corner(b, c)[n])) < 0.01);
   }
 
   const drawRecords = (list) => drawAll(list.map(job).filter((j) => j));
@@ -450,6 +479,7 @@
     const set = (el, values) => Object.entries(values).forEach(([name, value]) => el.setAttribute(name, value));
     set(record.tile, {patternUnits: 'userSpaceOnUse', patternTransform: new DOMMatrix(m).inverse(), x: tx, y: ty,
                          width: ceil(tile[2]) + 2 - tx, height: ceil(tile[3]) + 2 - ty});
+    URL.revokeObjectURL(record.tileImage.getAttribute('href'));  // the image drawn before, if any
     set(record.tileImage, {x: x - tx, y: y - ty, width: w, height: h, href: url});  // tile-relative
   }
 

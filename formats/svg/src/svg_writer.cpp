@@ -413,6 +413,15 @@ double edgeReach(const SvgPatchGrid& g, int i, int row, Vec2& normal) {
     return reach;
 }
 
+// The unit tangent of the piece's side at its corner (k, row), k = 0 or C, row = 0 or R: along
+// the side's first handle into the piece (zero when the side is degenerate).
+Vec2 sideTangent(const SvgPatchGrid& g, int k, int row) {
+    const Vec2 p = g.P(k, row);
+    Vec2 d = row == 0 ? g.V(k, 0)[0] - p : g.V(k, row - 1)[1] - p;
+    if (!(norm(d) > 0)) d = (row == 0 ? g.P(k, 1) : g.P(k, row - 1)) - p;
+    return norm(d) > 0 ? (1.0 / norm(d)) * d : Vec2{};
+}
+
 void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
                     const std::vector<int>& columns, double orientation,
                     const NumberSyntax& syntax) {
@@ -435,8 +444,23 @@ void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
             // At a bend the offset corner moves further, so that both edges keep their reach.
             double slack = 1.0;
             for (Vec2 ne : edgeNormals) slack = std::min(slack, std::max(0.5, dot(n, ne)));
-            ahead.push_back(g.P(k, row) + (reach / slack) * n);
-            behind.push_back(g.P(k, row) - (reach / slack) * n);
+            // Where the row meets the mesh's outline, the band ends along the outline's side
+            // (its tangent), not across it: a band reaching past the outline would widen the
+            // anti-aliased edge there (a notch in browsers). Into the neighbouring piece, whose
+            // side this piece does not know, it reaches 1 px along this side's continuation.
+            Vec2 toAhead = (reach / slack) * n, toBehind = -1.0 * toAhead;
+            if (k == 0 || k == g.columns) {
+                const Vec2 t = sideTangent(g, k, row);
+                const double along = dot(t, n);
+                if (std::fabs(along) > 0.1) {
+                    const double r = reach / slack / std::max(std::fabs(along), 0.5);
+                    const Vec2 own = r * t, other = -std::min(r, 1.0) * t;
+                    toAhead = along > 0 ? own : other;
+                    toBehind = along > 0 ? other : own;
+                }
+            }
+            ahead.push_back(g.P(k, row) + toAhead);
+            behind.push_back(g.P(k, row) + toBehind);
         }
         if (ahead.size() < 2) continue;
         std::vector<Vec2> polygon = ahead;
