@@ -88,6 +88,7 @@ struct SegmentStats {
     int grabCutSegments = 0;  // segments GrabCut refined
     long grabCutPixels = 0;   // total area of their GrabCut windows
     int components = 0;       // 4-connected components before merging
+    int thinStructures = 0;   // lines and rings found at full size (segment_thin.h)
 };
 
 struct Segmentation {
