@@ -1,8 +1,10 @@
 // Whole-image segmentation into a few large regions (docs/design.md §5, paper §4.6): graph-based
 // segmentation (Felzenszwalb–Huttenlocher, OpenCV's) on a downscaled copy, its slivers and
 // small pieces merged; each segment's boundary band refined with GrabCut; the gaps GrabCut
-// leaves filled by seeded region growing on colour; small, thin and weakly separated regions
-// merged, so that every label is one 4-connected region.
+// leaves filled by seeded region growing on colour; lines and rings a few pixels wide drawn on
+// a flat surrounding found at full size and given labels of their own; small, thin (but not
+// such distinct lines) and weakly separated regions merged, so that every label is one
+// 4-connected region; thin rings cut into two arcs.
 //
 // The paper asks for a "large threshold"; on OpenCV's FH a large k leaks across object
 // boundaries (several objects and the table they stand on become one region), so the default
@@ -69,8 +71,9 @@ struct SegmentOptions {
     double weakEdge = 12;
     // A piece of FH's result under its minimum size stays a region of its own when its mean
     // colour lies further than this (0–255 RGB distance) from every neighbour's and it has at
-    // least minRegion pixels: a small object is not merged into what surrounds it. 0 = merge
-    // by size alone.
+    // least minRegion pixels: a small object is not merged into what surrounds it. The same
+    // contrast keeps thin regions (lines, rings) from the sliver merge and finds thin
+    // structures at full size (segment_thin.h). 0 = merge by size alone.
     double distinctContrast = 100;
 };
 
