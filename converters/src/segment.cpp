@@ -905,6 +905,11 @@ std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhR
 
 }  // namespace
 
+// Under the default minimum region size, thin structures of at least this many pixels are kept
+// (when distinct), however large the image: a line's pixels grow with its length, not with the
+// image's area. A minRegion given is honoured.
+constexpr long kMinThinStructure = 64;
+
 Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
     const auto t0 = Clock::now();
     const int W = image.width, H = image.height;
@@ -917,6 +922,8 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
     const long N = static_cast<long>(W) * H;
     const long minRegion =
         options.minRegion > 0 ? options.minRegion : std::max(64L, N / 1000);
+    const long smallestThin =
+        options.minRegion > 0 ? minRegion : std::min(minRegion, kMinThinStructure);
     const cv::Mat bgr = toBgr8(image);
 
     auto t = Clock::now();
@@ -936,7 +943,7 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
     // Thin structures found on the full-size image take the place of what the graph stage made
     // of them.
     ThinStructureOptions thin;
-    thin.minPixels = minRegion;
+    thin.minPixels = smallestThin;
     thin.contrast = options.distinctContrast;
     thin.threads = options.threads;
     st.thinStructures = liftThinStructures(bgr, seg.labels, fh.count, thin) - fh.count;
@@ -945,10 +952,14 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
     t = Clock::now();
     MergeParams merge{minRegion, options.sliverWidth, options.weakEdge};
     merge.thinContrast = options.distinctContrast;
+    if (smallestThin < minRegion) {
+        merge.firstKept = fh.count;  // the thin structures, kept under minRegion when distinct
+        merge.keepContrast = options.distinctContrast;
+    }
     const MergeResult merged = mergeRegions(bgr, seg.labels, merge);
     // Rings no wider than about 7 px are cut into two arcs (segment_thin.h).
     seg.count = st.regions =
-        relabelBySize(seg.labels, cutThinLoops(seg.labels, W, H, merged.count, 3, minRegion));
+        relabelBySize(seg.labels, cutThinLoops(seg.labels, W, H, merged.count, 3, smallestThin));
     st.components = merged.components;
     st.merged = merged.merged;
     st.weakMerged = merged.weakMerged;

@@ -26,7 +26,8 @@ struct SegmentOptions {
     // Wanted number of regions, roughly (0 = a few large regions, as many as the image has:
     // two on a silhouette, a few to a few dozen on a photo).
     int segments = 0;
-    // Regions under this many pixels are merged into a neighbour; 0 = max(64, w*h/1000).
+    // Regions under this many pixels are merged into a neighbour; 0 = max(64, w*h/1000), and
+    // distinct lines and arcs of at least 64 pixels kept.
     int minRegion = 0;
     // Refine boundaries with GrabCut.
     bool grabCut = true;
@@ -97,8 +98,9 @@ struct SegmentStats {
 struct Segmentation {
     int width = 0, height = 0, count = 0;
     // width*height, row-major, every pixel in 0..count-1. Each label is ONE 4-connected set
-    // of at least minRegion pixels (unless the whole image is smaller); labels are ordered by
-    // size, largest first.
+    // of at least minRegion pixels (unless the whole image is smaller; under the default
+    // minRegion, a distinct line or arc may have as few as 64); labels are ordered by size,
+    // largest first.
     std::vector<int> labels;
     SegmentStats stats;
 };
