@@ -28,7 +28,7 @@ OUT = os.path.join(ROOT, "bench-out", "tracers")
 GM = os.environ.get("GRADMESH", os.path.join(ROOT, "build", "app", "gradmesh"))
 STRAY = os.environ.get("STRAY_PIXELS", os.path.join(ROOT, "build", "bench", "stray_pixels"))
 IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png", "smarties.png", "opencv-logo.png",
-          "detect_blob.png"]
+          "detect_blob.png", "thin_lines.png"]
 # Our points: (--max-error, --total-patches or None). The error targets alone give the middle
 # and the top of our curve (3 alone is convert's default); whole-image budgets give its low end.
 OUR_POINTS = [(2, 300), (2, 1000), (2, 3000), (8, None), (6, None), (4, None), (3, None),

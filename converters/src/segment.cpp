@@ -4,6 +4,7 @@
 #include <opencv2/ximgproc/segmentation.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
 #include "segment_borders.h"
+#include "segment_thin.h"
 
 namespace gm {
 
@@ -55,11 +57,13 @@ struct MergeParams {
     long minRegion = 1;
     int sliverWidth = 0;
     double weakEdge = 0;
-    // Components of labels from `firstKept` on (liftDistinctPieces) whose mean colour lies
-    // further than `keepContrast` (RGB distance, 0–255 units) from every neighbour's are not
-    // merged for their size (0: all are).
+    // Components of labels from `firstKept` on (liftDistinctPieces), or of at least
+    // keptMinSize pixels, whose mean colour lies further than `keepContrast` (RGB distance,
+    // 0–255 units) from every neighbour's are not merged for their size (0: all are).
     int firstKept = std::numeric_limits<int>::max();
+    long keptMinSize = std::numeric_limits<long>::max();
     double keepContrast = 0;
+    double thinContrast = 0;  // thin components this distinct are kept (mergeSmallAndThin)
 };
 MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp);
 
@@ -131,8 +135,10 @@ FhRun runFh(const cv::Mat& work, double k, const SegmentOptions& o, int minSize,
     run.labels = fhLabels(work, k, o.sigma, minSize);
     run.rawCount = *std::max_element(run.labels.begin(), run.labels.end()) + 1;
     MergeParams merge{minSize, o.sliverWidth, o.weakEdge};
+    merge.thinContrast = o.distinctContrast;
     if (o.distinctContrast > 0 && noiseSize < minSize) {
         merge.firstKept = run.rawCount;
+        merge.keptMinSize = noiseSize;
         merge.keepContrast = o.distinctContrast;
         run.rawCount = liftDistinctPieces(work, fhLabels(work, k, o.sigma, noiseSize), run.labels,
                                           noiseSize, o.distinctContrast);
@@ -242,9 +248,10 @@ struct GrabCutParams {
 };
 
 // Segment s's trimap over roi: pixels farther than `band` from its border are sure foreground
-// (inside) or background (outside), the others probable; `fg` and `bg` count each side.
+// (inside) or background (outside), the others probable; `fg` and `bg` count each side, `sureFg`
+// the sure foreground.
 cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Rect& roi, int band,
-                      long& fg, long& bg) {
+                      long& fg, long& bg, long& sureFg) {
     cv::Mat inside(roi.size(), CV_8U);
     for (int y = 0; y < roi.height; ++y) {
         auto* row = inside.ptr<uint8_t>(y);
@@ -256,7 +263,7 @@ cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Re
     cv::distanceTransform(inside, distIn, cv::DIST_L2, cv::DIST_MASK_3);
     cv::distanceTransform(outside, distOut, cv::DIST_L2, cv::DIST_MASK_3);
     cv::Mat mask(roi.size(), CV_8U);
-    fg = bg = 0;
+    fg = bg = sureFg = 0;
     for (int y = 0; y < roi.height; ++y) {
         const auto* in = inside.ptr<uint8_t>(y);
         const auto* di = distIn.ptr<float>(y);
@@ -266,6 +273,7 @@ cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Re
             if (in[x]) {
                 m[x] = di[x] > band ? cv::GC_FGD : cv::GC_PR_FGD;
                 ++fg;
+                sureFg += di[x] > band;
             } else {
                 m[x] = dout[x] > band ? cv::GC_BGD : cv::GC_PR_BGD;
                 ++bg;
@@ -306,9 +314,12 @@ SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const 
     const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
     const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
     const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
-    long fg = 0, bg = 0;
-    cv::Mat mask = segmentTrimap(labels, W, s, roi, params.band, fg, bg);
+    long fg = 0, bg = 0, sureFg = 0;
+    cv::Mat mask = segmentTrimap(labels, W, s, roi, params.band, fg, bg, sureFg);
     if (fg < 16 || bg < 16) return cut;  // GrabCut's colour models need samples
+    // A segment hardly wider than the band (a line, a ring: under 5 % of it sure inside) has
+    // nothing to anchor its model: GrabCut would give most of it away.
+    if (20 * sureFg < fg) return cut;
     cv::Mat before = mask.clone();
     if (!seededGrabCut(bgr, roi, mask, params.iterations, s)) return cut;
     cut.roi = roi;
@@ -512,11 +523,14 @@ public:
 
     int components() const { return C_; }
 
-    // Per component: whether its label is at least `first`.
-    std::vector<uint8_t> componentsOfLabelsFrom(const std::vector<int>& labels, int first) const {
+    // Per component: whether its label is at least `first` or it has at least minSize pixels.
+    std::vector<uint8_t> keepableComponents(const std::vector<int>& labels, int first,
+                                            long minSize) const {
         std::vector<uint8_t> out(static_cast<size_t>(C_), 0);
         for (size_t p = 0; p < labels.size(); ++p)
             if (labels[p] >= first) out[static_cast<size_t>(cc_.of[p])] = 1;
+        for (int c = 0; c < C_; ++c)
+            if (size_[c] >= minSize) out[static_cast<size_t>(c)] = 1;
         return out;
     }
 
@@ -540,14 +554,22 @@ public:
 
     // Merges every component under minRegion pixels, or thin, into the adjacent one of the most
     // similar mean colour (ties: the longest shared border), smallest first. Returns the merges.
+    // A thin component whose mean colour lies further than thinContrast from every
+    // neighbour's and not between two of them (a line or a ring drawn on its surroundings, not
+    // a sliver along a blurred edge) is not merged for being thin.
     long mergeSmallAndThin(long minRegion, const std::vector<uint8_t>& mayKeep,
-                           double keepContrast) {
+                           double keepContrast, double thinContrast) {
         auto distinct = [&](int c) {
             return keepContrast > 0 && mayKeep[static_cast<size_t>(c)] &&
                    colourDistance(c, mostSimilarNeighbour(c)) > keepContrast;
         };
+        auto keptThin = [&](int c) {
+            return thinContrast > 0 && !adj_[c].empty() &&
+                   colourDistance(c, mostSimilarNeighbour(c)) > thinContrast &&
+                   !betweenNeighbours(c);
+        };
         auto needsMerge = [&](int c) {
-            return thin_[c] || (size_[c] < minRegion && !distinct(c));
+            return (thin_[c] && !keptThin(c)) || (size_[c] < minRegion && !distinct(c));
         };
         using Item = std::pair<long, int>;  // size, component: the smallest first
         std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
@@ -684,6 +706,37 @@ private:
         return std::sqrt(d);
     }
 
+    // Whether c's mean colour lies near the colour segment between two of its neighbours' (an
+    // edge's blend of the two): off it by less than a third of the segment's length.
+    bool betweenNeighbours(int c) const {
+        std::vector<std::array<double, 3>> means;
+        for (const auto& entry : adj_[c]) means.push_back(meanColour(entry.first));
+        const std::array<double, 3> m = meanColour(c);
+        for (size_t i = 0; i < means.size(); ++i)
+            for (size_t j = i + 1; j < means.size(); ++j) {
+                const std::array<double, 3>& a = means[i];
+                double d[3], dd = 0, t = 0;
+                for (int k = 0; k < 3; ++k) {
+                    d[k] = means[j][k] - a[k];
+                    dd += d[k] * d[k];
+                    t += (m[k] - a[k]) * d[k];
+                }
+                if (dd <= 0 || t < 0 || t > dd) continue;
+                t /= dd;
+                double off = 0;
+                for (int k = 0; k < 3; ++k) {
+                    const double e = m[k] - a[k] - t * d[k];
+                    off += e * e;
+                }
+                if (9 * off < dd) return true;
+            }
+        return false;
+    }
+
+    std::array<double, 3> meanColour(int c) const {
+        return {sum_[c * 3] / size_[c], sum_[c * 3 + 1] / size_[c], sum_[c * 3 + 2] / size_[c]};
+    }
+
     int mostSimilarNeighbour(int c) const {
         double m[3];
         for (int k = 0; k < 3; ++k) m[k] = sum_[c * 3 + k] / size_[c];
@@ -752,8 +805,9 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
     MergeResult res;
     res.components = graph.components();
     graph.markThin(mp.sliverWidth);
-    res.merged = graph.mergeSmallAndThin(mp.minRegion, graph.componentsOfLabelsFrom(labels, mp.firstKept),
-                                         mp.keepContrast);
+    res.merged = graph.mergeSmallAndThin(mp.minRegion,
+                                         graph.keepableComponents(labels, mp.firstKept, mp.keptMinSize),
+                                         mp.keepContrast, mp.thinContrast);
     res.weakMerged = graph.mergeWeakBorders(mp.weakEdge);
     res.count = graph.relabel(labels);
     return res;
@@ -767,6 +821,27 @@ std::vector<int> upscaleToImage(const cv::Mat& small, const std::vector<int>& la
     if (!options.refineBorders)
         return upscaleLabels(labels, small.cols, small.rows, bgr.cols, bgr.rows);
     return upscaleLabelsRefined(small, labels, bgr, options.threads, &st.borderRefined);
+}
+
+// Renumbers the labels 0..count-1 by size, largest first (ties: the one met first in scan
+// order); returns the count.
+int relabelBySize(std::vector<int>& labels, int count) {
+    std::vector<long> size(static_cast<size_t>(count), 0);
+    std::vector<size_t> first(static_cast<size_t>(count), labels.size());
+    for (size_t p = 0; p < labels.size(); ++p) {
+        const size_t l = static_cast<size_t>(labels[p]);
+        ++size[l];
+        first[l] = std::min(first[l], p);
+    }
+    std::vector<int> order(static_cast<size_t>(count));
+    for (int l = 0; l < count; ++l) order[static_cast<size_t>(l)] = l;
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        return size[a] != size[b] ? size[a] > size[b] : first[a] < first[b];
+    });
+    std::vector<int> dense(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) dense[static_cast<size_t>(order[i])] = i;
+    for (int& l : labels) l = dense[static_cast<size_t>(l)];
+    return count;
 }
 
 // `bgr` scaled down (area averaging) to at most maxPixels pixels; itself when it is no larger
@@ -830,6 +905,11 @@ std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhR
 
 }  // namespace
 
+// Under the default minimum region size, thin structures of at least this many pixels are kept
+// (when distinct), however large the image: a line's pixels grow with its length, not with the
+// image's area. A minRegion given is honoured.
+constexpr long kMinThinStructure = 64;
+
 Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
     const auto t0 = Clock::now();
     const int W = image.width, H = image.height;
@@ -842,6 +922,8 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
     const long N = static_cast<long>(W) * H;
     const long minRegion =
         options.minRegion > 0 ? options.minRegion : std::max(64L, N / 1000);
+    const long smallestThin =
+        options.minRegion > 0 ? minRegion : std::min(minRegion, kMinThinStructure);
     const cv::Mat bgr = toBgr8(image);
 
     auto t = Clock::now();
@@ -858,11 +940,26 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
     st.grown = growIntoGaps(bgr, seg.labels, fh.count);
     st.growSeconds = secondsSince(t);
 
+    // Thin structures found on the full-size image take the place of what the graph stage made
+    // of them.
+    ThinStructureOptions thin;
+    thin.minPixels = smallestThin;
+    thin.contrast = options.distinctContrast;
+    thin.threads = options.threads;
+    st.thinStructures = liftThinStructures(bgr, seg.labels, fh.count, thin) - fh.count;
+
     // (4) One 4-connected component per label, none under minRegion.
     t = Clock::now();
-    const MergeResult merged =
-        mergeRegions(bgr, seg.labels, {minRegion, options.sliverWidth, options.weakEdge});
-    seg.count = st.regions = merged.count;
+    MergeParams merge{minRegion, options.sliverWidth, options.weakEdge};
+    merge.thinContrast = options.distinctContrast;
+    if (smallestThin < minRegion) {
+        merge.firstKept = fh.count;  // the thin structures, kept under minRegion when distinct
+        merge.keepContrast = options.distinctContrast;
+    }
+    const MergeResult merged = mergeRegions(bgr, seg.labels, merge);
+    // Rings no wider than about 7 px are cut into two arcs (segment_thin.h).
+    seg.count = st.regions =
+        relabelBySize(seg.labels, cutThinLoops(seg.labels, W, H, merged.count, 3, smallestThin));
     st.components = merged.components;
     st.merged = merged.merged;
     st.weakMerged = merged.weakMerged;

@@ -25,8 +25,28 @@ inline RgbaImage paint(int w, int h, const std::function<void(double, double, fl
     return im;
 }
 
-// What a Segmentation must be; an empty string when it is all of it.
-inline std::string labelMapProblem(const Segmentation& s, long minRegion) {
+// Whether every pixel of label l lies within 3 4-neighbour steps of another label (a line or
+// an arc up to about 7 px wide).
+inline bool thinLabel(const Segmentation& s, int l) {
+    for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+            if (s.labels[static_cast<size_t>(y) * s.width + x] != l) continue;
+            bool near = false;
+            for (int dy = -3; dy <= 3 && !near; ++dy)
+                for (int dx = -3 + std::abs(dy); dx <= 3 - std::abs(dy) && !near; ++dx) {
+                    const int u = x + dx, v = y + dy;
+                    near = u >= 0 && v >= 0 && u < s.width && v < s.height &&
+                           s.labels[static_cast<size_t>(v) * s.width + u] != l;
+                }
+            if (!near) return false;
+        }
+    return true;
+}
+
+// What a Segmentation must be; an empty string when it is all of it. With thinMinRegion > 0
+// (the default minRegion's contract), a thin label may have as few as thinMinRegion pixels.
+inline std::string labelMapProblem(const Segmentation& s, long minRegion,
+                                   long thinMinRegion = 0) {
     const int W = s.width, H = s.height;
     const size_t N = static_cast<size_t>(W) * H;
     if (s.labels.size() != N) return "labels has the wrong size";
@@ -38,7 +58,8 @@ inline std::string labelMapProblem(const Segmentation& s, long minRegion) {
     }
     for (int l = 0; l < s.count; ++l) {
         if (size[l] == 0) return "label " + std::to_string(l) + " unused (not dense)";
-        if (s.count > 1 && size[l] < minRegion)
+        if (s.count > 1 && size[l] < minRegion &&
+            !(thinMinRegion > 0 && size[l] >= thinMinRegion && thinLabel(s, l)))
             return "label " + std::to_string(l) + " has " + std::to_string(size[l]) +
                    " pixels, under " + std::to_string(minRegion);
         if (l > 0 && size[l] > size[l - 1]) return "labels not ordered by size";

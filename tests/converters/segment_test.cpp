@@ -56,7 +56,7 @@ TEST_CASE("two flat colours split by a straight line give the two halves", "[seg
         o.grabCut = grabCut;
         const auto s = segmentImage(image, o);
         printStats(grabCut ? "line" : "line (no GrabCut)", s);
-        CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+        CHECK(labelMapProblem(s, defaultMinRegion(w, h), 64) == "");
         REQUIRE(s.count == 2);
         std::printf("  %ld pixels off the true halves\n", twoRegionMismatch(s, below));
         // A few pixels along the 260-pixel boundary at most.
@@ -86,7 +86,7 @@ TEST_CASE("a smooth gradient disc on a flat background gives two regions", "[seg
     });
     const auto s = segmentImage(image);
     printStats("gradient disc", s);
-    CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+    CHECK(labelMapProblem(s, defaultMinRegion(w, h), 64) == "");
     REQUIRE(s.count == 2);
     std::printf("  %ld pixels off the true disc\n", twoRegionMismatch(s, inDisc));
     // The disc's circumference is ~500 pixels.
@@ -99,7 +99,7 @@ TEST_CASE("every sample image gets a valid label map", "[segment][samples]") {
             const auto image = sample(name);
             const auto s = segmentImage(image);
             printStats(name, s);
-            CHECK(labelMapProblem(s, defaultMinRegion(image.width, image.height)) == "");
+            CHECK(labelMapProblem(s, defaultMinRegion(image.width, image.height), 64) == "");
             CHECK(s.count >= 2);
             CHECK(s.count <= 60);
         }
@@ -125,7 +125,7 @@ TEST_CASE("a large image is refined at GrabCut's resolution cap", "[segment][sam
     CHECK(s.stats.grabCutWidth * s.stats.grabCutHeight <= 40000);
     CHECK(s.stats.grabCutWidth < image.width);
     CHECK(s.stats.grabCutSegments > 0);
-    CHECK(labelMapProblem(s, defaultMinRegion(image.width, image.height)) == "");
+    CHECK(labelMapProblem(s, defaultMinRegion(image.width, image.height), 64) == "");
 }
 
 TEST_CASE("GrabCut refinement gives the same labels on one thread and on several",
@@ -150,8 +150,8 @@ TEST_CASE("more segments asked for give more regions", "[segment][samples]") {
     const auto a = segmentImage(image, few), b = segmentImage(image, many);
     printStats("fruits segments=4", a);
     printStats("fruits segments=40", b);
-    CHECK(labelMapProblem(a, defaultMinRegion(image.width, image.height)) == "");
-    CHECK(labelMapProblem(b, defaultMinRegion(image.width, image.height)) == "");
+    CHECK(labelMapProblem(a, defaultMinRegion(image.width, image.height), 64) == "");
+    CHECK(labelMapProblem(b, defaultMinRegion(image.width, image.height), 64) == "");
     CHECK(a.count < b.count);
     CHECK(a.count <= 10);
     CHECK(b.count >= 20);
@@ -165,8 +165,8 @@ TEST_CASE("a given threshold is used as k in one FH run", "[segment]") {
     const auto a = segmentImage(image, lowK), b = segmentImage(image, highK);
     CHECK(a.stats.fhTrials == 1);
     CHECK(a.stats.threshold == 100);
-    CHECK(labelMapProblem(a, defaultMinRegion(image.width, image.height)) == "");
-    CHECK(labelMapProblem(b, defaultMinRegion(image.width, image.height)) == "");
+    CHECK(labelMapProblem(a, defaultMinRegion(image.width, image.height), 64) == "");
+    CHECK(labelMapProblem(b, defaultMinRegion(image.width, image.height), 64) == "");
     CHECK(a.count > b.count);
 }
 
@@ -187,8 +187,8 @@ TEST_CASE("regions split along weak borders are joined again", "[segment]") {
     const auto joined = segmentImage(image, o);
     printStats("ramp, weakEdge 0", split);
     printStats("ramp, weakEdge 12", joined);
-    CHECK(labelMapProblem(split, defaultMinRegion(w, h)) == "");
-    CHECK(labelMapProblem(joined, defaultMinRegion(w, h)) == "");
+    CHECK(labelMapProblem(split, defaultMinRegion(w, h), 64) == "");
+    CHECK(labelMapProblem(joined, defaultMinRegion(w, h), 64) == "");
     CHECK(split.count > 3);
     CHECK(joined.count == 1);
 }
@@ -213,7 +213,7 @@ TEST_CASE("thin and tiny images are handled", "[segment]") {
         });
         const auto s = segmentImage(image);
         INFO(w << "x" << h);
-        CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+        CHECK(labelMapProblem(s, defaultMinRegion(w, h), 64) == "");
     }
 }
 
@@ -305,7 +305,7 @@ TEST_CASE("transparent pixels count as black", "[segment]") {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) image.at(x, y)[3] = inBox(x + .5, y + .5) ? 1.f : 0.f;
     const auto s = segmentImage(image);
-    CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+    CHECK(labelMapProblem(s, defaultMinRegion(w, h), 64) == "");
     REQUIRE(s.count == 2);
     CHECK(twoRegionMismatch(s, inBox) <= 20);
 }
@@ -378,7 +378,7 @@ TEST_CASE("regions found on a downscaled copy keep full-size borders", "[segment
         const auto s = segmentImage(image, o);
         printStats(refine ? "large disc, borders refined" : "large disc, upscaled", s);
         CHECK(s.stats.grabCutWidth < w);
-        CHECK(labelMapProblem(s, defaultMinRegion(w, h)) == "");
+        CHECK(labelMapProblem(s, defaultMinRegion(w, h), 64) == "");
         REQUIRE(s.count == 2);
         mismatch[refine] = twoRegionMismatch(s, inDisc);
         std::printf("  %ld pixels off the true disc (%ld refined)\n", mismatch[refine],

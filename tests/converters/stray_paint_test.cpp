@@ -11,6 +11,7 @@
 
 #include "converters/convert_segments.h"
 #include "formats/raster.h"
+#include "image_checks.h"
 #include "meshcore/render.h"
 
 using namespace gm;
@@ -49,34 +50,6 @@ RgbaImage discsOnWhite() {
     return img;
 }
 
-int channel(const RgbaImage& img, int x, int y, int c) {
-    return static_cast<int>(std::lround(img.at(x, y)[c] * 255));
-}
-
-// Pixels within 2 px of a strong edge: a morphological gradient (5x5 max minus min, the largest
-// over the channels) of at least 40, dilated by 2 px.
-std::vector<uint8_t> nearStrongEdges(const RgbaImage& img) {
-    const int W = img.width, H = img.height;
-    std::vector<uint8_t> strong(static_cast<size_t>(W) * H, 0), near(strong.size(), 0);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            for (int c = 0; c < 3; ++c) {
-                int lo = 255, hi = 0;
-                for (int v = std::max(0, y - 2); v <= std::min(H - 1, y + 2); ++v)
-                    for (int u = std::max(0, x - 2); u <= std::min(W - 1, x + 2); ++u) {
-                        lo = std::min(lo, channel(img, u, v, c));
-                        hi = std::max(hi, channel(img, u, v, c));
-                    }
-                if (hi - lo >= 40) strong[static_cast<size_t>(y) * W + x] = 1;
-            }
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            for (int v = std::max(0, y - 2); v <= std::min(H - 1, y + 2); ++v)
-                for (int u = std::max(0, x - 2); u <= std::min(W - 1, x + 2); ++u)
-                    if (strong[static_cast<size_t>(v) * W + u]) near[static_cast<size_t>(y) * W + x] = 1;
-    return near;
-}
-
 }  // namespace
 
 TEST_CASE("small objects on a flat background paint nothing beyond themselves",
@@ -87,24 +60,16 @@ TEST_CASE("small objects on a flat background paint nothing beyond themselves",
     const Document doc = convertSegmented(image, options, "discs", &report);
     const RgbaImage render = renderDocument(doc, RenderOptions{}).image;
     writeImage(render, std::string(GRADMESH_TMP) + "/stray_paint_discs.png");
-    const std::vector<uint8_t> nearEdge = nearStrongEdges(image);
-
-    long stray = 0;
+    const long stray = gm::test::strayPixels(image, render);
     double insideError = 0;
     long insidePixels = 0;
     for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            int worst = 0;
-            for (int c = 0; c < 3; ++c)
-                worst = std::max(worst, std::abs(channel(image, x, y, c) - channel(render, x, y, c)));
-            if (worst > 48 && !nearEdge[static_cast<size_t>(y) * image.width + x]) ++stray;
+        for (int x = 0; x < image.width; ++x)
             for (const Disc& d : kDiscs)
                 if (std::hypot(x + 0.5 - d.x, y + 0.5 - d.y) < d.radius - 2) {
-                    for (int c = 0; c < 3; ++c)
-                        insideError += std::abs(channel(image, x, y, c) - channel(render, x, y, c));
+                    insideError += 3 * gm::test::meanChannelError(image, render, x, y);
                     insidePixels += 3;
                 }
-        }
     INFO("regions " << report.convert.regions.size() << ", E " << report.convert.error.meanAbs
                     << ", stray " << stray << ", inside E " << insideError / insidePixels);
     // Every disc is a region of its own, besides the background.

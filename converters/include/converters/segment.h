@@ -1,8 +1,10 @@
 // Whole-image segmentation into a few large regions (docs/design.md §5, paper §4.6): graph-based
 // segmentation (Felzenszwalb–Huttenlocher, OpenCV's) on a downscaled copy, its slivers and
 // small pieces merged; each segment's boundary band refined with GrabCut; the gaps GrabCut
-// leaves filled by seeded region growing on colour; small, thin and weakly separated regions
-// merged, so that every label is one 4-connected region.
+// leaves filled by seeded region growing on colour; lines and rings a few pixels wide drawn on
+// a flat surrounding found at full size and given labels of their own; small, thin (but not
+// such distinct lines) and weakly separated regions merged, so that every label is one
+// 4-connected region; thin rings cut into two arcs.
 //
 // The paper asks for a "large threshold"; on OpenCV's FH a large k leaks across object
 // boundaries (several objects and the table they stand on become one region), so the default
@@ -24,7 +26,8 @@ struct SegmentOptions {
     // Wanted number of regions, roughly (0 = a few large regions, as many as the image has:
     // two on a silhouette, a few to a few dozen on a photo).
     int segments = 0;
-    // Regions under this many pixels are merged into a neighbour; 0 = max(64, w*h/1000).
+    // Regions under this many pixels are merged into a neighbour; 0 = max(64, w*h/1000), and
+    // distinct lines and arcs of at least 64 pixels kept.
     int minRegion = 0;
     // Refine boundaries with GrabCut.
     bool grabCut = true;
@@ -69,8 +72,9 @@ struct SegmentOptions {
     double weakEdge = 12;
     // A piece of FH's result under its minimum size stays a region of its own when its mean
     // colour lies further than this (0–255 RGB distance) from every neighbour's and it has at
-    // least minRegion pixels: a small object is not merged into what surrounds it. 0 = merge
-    // by size alone.
+    // least minRegion pixels: a small object is not merged into what surrounds it. The same
+    // contrast keeps thin regions (lines, rings) from the sliver merge and finds thin
+    // structures at full size (segment_thin.h). 0 = merge by size alone.
     double distinctContrast = 100;
 };
 
@@ -88,13 +92,15 @@ struct SegmentStats {
     int grabCutSegments = 0;  // segments GrabCut refined
     long grabCutPixels = 0;   // total area of their GrabCut windows
     int components = 0;       // 4-connected components before merging
+    int thinStructures = 0;   // lines and rings found at full size (segment_thin.h)
 };
 
 struct Segmentation {
     int width = 0, height = 0, count = 0;
     // width*height, row-major, every pixel in 0..count-1. Each label is ONE 4-connected set
-    // of at least minRegion pixels (unless the whole image is smaller); labels are ordered by
-    // size, largest first.
+    // of at least minRegion pixels (unless the whole image is smaller; under the default
+    // minRegion, a distinct line or arc may have as few as 64); labels are ordered by size,
+    // largest first.
     std::vector<int> labels;
     SegmentStats stats;
 };

@@ -1,0 +1,126 @@
+// Lines and rings 2-4 px wide on flat panels (thin_structures.h) must come through a
+// whole-image conversion unbroken: every pixel along each centre line close to the image, the
+// structure's core close on average, and no stray paint anywhere.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "converters/convert_segments.h"
+#include "formats/raster.h"
+#include "image_checks.h"
+#include "meshcore/render.h"
+#include "thin_structures.h"
+
+using namespace gm;
+
+namespace {
+
+struct StructureFigures {
+    int broken = 0;           // centre-line pixels with a channel off by more than 48
+    double coreError = 0;     // mean channel error over the fully covered pixels, 0-255
+    long corePixels = 0;
+};
+
+StructureFigures measure(const test::ThinScene& scene, size_t k, const RgbaImage& render) {
+    const RgbaImage& image = scene.image;
+    const test::ThinStructure& st = scene.structures[k];
+    const std::vector<float>& cover = scene.coverage[k];
+    StructureFigures f;
+    std::vector<uint8_t> seen(cover.size(), 0);
+    for (const Vec2& p : st.centreLine()) {
+        const int x = static_cast<int>(p.x), y = static_cast<int>(p.y);
+        const size_t i = static_cast<size_t>(y) * image.width + x;
+        if (seen[i]) continue;
+        seen[i] = 1;
+        if (test::worstChannelError(image, render, x, y) > 48) ++f.broken;
+    }
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            if (cover[static_cast<size_t>(y) * image.width + x] >= 1) {
+                f.coreError += test::meanChannelError(image, render, x, y);
+                ++f.corePixels;
+            }
+    f.coreError /= std::max(1L, f.corePixels);
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("the thin-structure drawing is the committed sample", "[convert][segment]") {
+    const RgbaImage made = test::thinStructuresScene().image;
+    writeImage(made, std::string(GRADMESH_TMP) + "/thin_lines.png");
+    const RgbaImage sample = readImage(std::string(GRADMESH_SAMPLES) + "/thin_lines.png");
+    REQUIRE(sample.width == made.width);
+    REQUIRE(sample.height == made.height);
+    int worst = 0;
+    for (int y = 0; y < made.height; ++y)
+        for (int x = 0; x < made.width; ++x)
+            worst = std::max(worst, test::worstChannelError(made, sample, x, y));
+    CHECK(worst <= 1);
+}
+
+namespace {
+
+// Every structure's figures, and the stray pixels over the image.
+struct SceneFigures {
+    std::vector<StructureFigures> structures;
+    long stray = 0;
+    std::string text;
+};
+
+SceneFigures convertAndMeasure(const test::ThinScene& scene, const std::string& renderName) {
+    SegmentConvertReport report;
+    const Document doc =
+        convertSegmented(scene.image, SegmentConvertOptions{}, "thin lines", &report);
+    const RgbaImage render = renderDocument(doc, RenderOptions{}).image;
+    writeImage(render, std::string(GRADMESH_TMP) + "/" + renderName);
+    SceneFigures out;
+    out.stray = test::strayPixels(scene.image, render);
+    std::ostringstream text;
+    for (size_t k = 0; k < scene.structures.size(); ++k) {
+        out.structures.push_back(measure(scene, k, render));
+        text << scene.structures[k].name << " (" << scene.structures[k].width << " px): broken "
+             << out.structures.back().broken << ", core E " << out.structures.back().coreError
+             << "\n";
+    }
+    text << "regions " << report.convert.regions.size() << ", patches " << report.convert.patches
+         << ", E " << report.convert.error.meanAbs << ", stray " << out.stray;
+    out.text = text.str();
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("lines and rings 2-4 px wide come through a whole-image conversion",
+          "[convert][segment]") {
+    // What the conversion holds to now: every structure its own region (none left to the
+    // background's mesh), no stray paint; a few pixels along the 2-px rings and the bends of
+    // the polylines are still off (the next test).
+    const SceneFigures f = convertAndMeasure(test::thinStructuresScene(), "thin_lines_render.png");
+    INFO(f.text);
+    int unbroken = 0;
+    for (const StructureFigures& s : f.structures) {
+        unbroken += s.broken == 0;
+        CHECK(s.broken <= 12);
+        CHECK(s.coreError <= 15);
+    }
+    CHECK(unbroken >= 14);
+    CHECK(f.stray == 0);
+}
+
+TEST_CASE("lines and rings 2-4 px wide convert unbroken and within E 10 inside",
+          "[convert][segment][!mayfail]") {
+    // The target of issue 25 (item 4), not met yet: the meshes of the thinnest rings and of
+    // the polylines' bends.
+    const SceneFigures f =
+        convertAndMeasure(test::thinStructuresScene(), "thin_lines_render_target.png");
+    INFO(f.text);
+    for (const StructureFigures& s : f.structures) {
+        CHECK(s.broken == 0);
+        CHECK(s.coreError <= 10);
+    }
+    CHECK(f.stray == 0);
+}
