@@ -285,6 +285,70 @@ double turnAngle(Vec2 before, Vec2 after) {
     return std::acos(std::clamp(c, -1.0, 1.0));
 }
 
+
+// How far colour c lies from every blend of `col` with `other` (0–1 units, per channel mean).
+double blendResidual(const Vec3& c, const Vec3& col, const Vec3& other) {
+    const Vec3 axis = col - other;
+    const double len2 = dot3(axis, axis);
+    const double share = len2 > 0 ? std::clamp(dot3(c - other, axis) / len2, 0.0, 1.0) : 1.0;
+    const Vec3 d = c - (other + share * axis);
+    return (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3;
+}
+
+// A thin region (a line, a rim) is nearly all anti-aliased border: its colour is the mean of its
+// quarter of pixels furthest from the colours around it, and each pixel is judged by how far it
+// lies from a blend of that colour with one of its outside neighbours' (what the shape's
+// anti-aliased outline draws there).
+FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::vector<size_t>& all,
+                          double maxError, const FlatOptions& options) {
+    const int w = own.width, h = own.height;
+    auto colourAt = [&](size_t k) {
+        return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
+    };
+    auto outside = [&](size_t k, auto&& visit) {
+        const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const size_t q = static_cast<size_t>(yy) * w + xx;
+                if (!own.mask[q]) visit(colourAt(q));
+            }
+    };
+    Vec3 around;
+    long aroundCount = 0;
+    for (size_t k : all) outside(k, [&](const Vec3& v) { around = around + v, ++aroundCount; });
+    if (aroundCount > 0) around = (1.0 / double(aroundCount)) * around;
+    std::vector<std::pair<double, size_t>> contrast;
+    for (size_t k : all) {
+        const Vec3 d = colourAt(k) - around;
+        contrast.push_back({-dot3(d, d), k});
+    }
+    const size_t purest = std::max<size_t>(1, all.size() / 4);
+    std::nth_element(contrast.begin(), contrast.begin() + static_cast<long>(purest - 1),
+                     contrast.end());
+    std::vector<size_t> pure;
+    for (size_t i = 0; i < purest; ++i) pure.push_back(contrast[i].second);
+    FlatFit fit;
+    fit.col = meanColour(image, pure);
+    double sum = 0;
+    long outliers = 0;
+    for (size_t k : all) {
+        const Vec3 c = colourAt(k);
+        double best = blendResidual(c, fit.col, fit.col);
+        outside(k, [&](const Vec3& v) { best = std::min(best, blendResidual(c, fit.col, v)); });
+        sum += 255 * best;
+        outliers += 255 * best > options.outlierError * maxError;
+    }
+    long ignored = 0;
+    fit.all = flatError(image, all, fit.col, INFINITY, ignored);
+    fit.interior = fit.all;
+    fit.interior.meanAbs = sum / double(all.size());
+    fit.flat = fit.interior.meanAbs <= options.errorShare * maxError &&
+               double(outliers) <= options.outlierShare * double(all.size());
+    return fit;
+}
+
 }  // namespace
 
 FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError,
@@ -307,10 +371,10 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
     const bool fewInterior =
         static_cast<int>(interior.size()) < options.minInterior ||
         double(interior.size()) < options.minInteriorShare * double(all.size());
-    const std::vector<size_t>& fitted = fewInterior ? all : interior;
-    fit.col = meanColour(image, fitted);
+    if (fewInterior) return fitThinFlatColour(image, own, all, maxError, options);
+    fit.col = meanColour(image, interior);
     long outliers = 0, ignored = 0;
-    fit.interior = flatError(image, fitted, fit.col, options.outlierError * maxError, outliers);
+    fit.interior = flatError(image, interior, fit.col, options.outlierError * maxError, outliers);
     fit.all = flatError(image, all, fit.col, INFINITY, ignored);
     fit.flat = fit.interior.meanAbs <= options.errorShare * maxError &&
                double(outliers) <= options.outlierShare * double(fit.interior.pixels);

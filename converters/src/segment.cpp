@@ -248,10 +248,9 @@ struct GrabCutParams {
 };
 
 // Segment s's trimap over roi: pixels farther than `band` from its border are sure foreground
-// (inside) or background (outside), the others probable; `fg` and `bg` count each side, `sureFg`
-// the sure foreground.
+// (inside) or background (outside), the others probable; `fg` and `bg` count each side.
 cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Rect& roi, int band,
-                      long& fg, long& bg, long& sureFg) {
+                      long& fg, long& bg) {
     cv::Mat inside(roi.size(), CV_8U);
     for (int y = 0; y < roi.height; ++y) {
         auto* row = inside.ptr<uint8_t>(y);
@@ -263,7 +262,7 @@ cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Re
     cv::distanceTransform(inside, distIn, cv::DIST_L2, cv::DIST_MASK_3);
     cv::distanceTransform(outside, distOut, cv::DIST_L2, cv::DIST_MASK_3);
     cv::Mat mask(roi.size(), CV_8U);
-    fg = bg = sureFg = 0;
+    fg = bg = 0;
     for (int y = 0; y < roi.height; ++y) {
         const auto* in = inside.ptr<uint8_t>(y);
         const auto* di = distIn.ptr<float>(y);
@@ -273,7 +272,6 @@ cv::Mat segmentTrimap(const std::vector<int>& labels, int W, int s, const cv::Re
             if (in[x]) {
                 m[x] = di[x] > band ? cv::GC_FGD : cv::GC_PR_FGD;
                 ++fg;
-                sureFg += di[x] > band;
             } else {
                 m[x] = dout[x] > band ? cv::GC_BGD : cv::GC_PR_BGD;
                 ++bg;
@@ -314,12 +312,9 @@ SegmentCut cutSegment(const cv::Mat& bgr, const std::vector<int>& labels, const 
     const int rx0 = std::max(0, seg.x0 - margin), ry0 = std::max(0, seg.y0 - margin);
     const int rx1 = std::min(W - 1, seg.x1 + margin), ry1 = std::min(H - 1, seg.y1 + margin);
     const cv::Rect roi(rx0, ry0, rx1 - rx0 + 1, ry1 - ry0 + 1);
-    long fg = 0, bg = 0, sureFg = 0;
-    cv::Mat mask = segmentTrimap(labels, W, s, roi, params.band, fg, bg, sureFg);
+    long fg = 0, bg = 0;
+    cv::Mat mask = segmentTrimap(labels, W, s, roi, params.band, fg, bg);
     if (fg < 16 || bg < 16) return cut;  // GrabCut's colour models need samples
-    // A segment hardly wider than the band (a line, a ring: under 5 % of it sure inside) has
-    // nothing to anchor its model: GrabCut would give most of it away.
-    if (20 * sureFg < fg) return cut;
     cv::Mat before = mask.clone();
     if (!seededGrabCut(bgr, roi, mask, params.iterations, s)) return cut;
     cut.roi = roi;

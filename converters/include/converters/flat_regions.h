@@ -29,7 +29,7 @@ struct FlatOptions {
     double outlierShare = 0.02;
     double outlierError = 4;
     double curveTolerance = 0.5;    // pixels: the Bézier outline against the traced loop
-    double outlineSmoothing = 0.8;  // Gaussian sigma (pixels) on the coverage traced
+    double outlineSmoothing = 0.4;  // Gaussian sigma (pixels) on the coverage traced
     // Holes of fewer pixels are filled: a border pixel that holds less than half of the shape's
     // colour makes a speck of a hole, which what is drawn on top covers anyway.
     int minHole = 3;
