@@ -53,6 +53,11 @@ FitError flatError(const RgbaImage& image, const std::vector<size_t>& at, const 
 
 double dot3(const Vec3& a, const Vec3& b) { return a.r * b.r + a.g * b.g + a.b * b.b; }
 
+// The colour of pixel k (an index into the image), sRGB 0–1.
+Vec3 colourAt(const RgbaImage& image, size_t k) {
+    return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
+}
+
 // Sets the pixels of every hole of `mask` (a background component, 4-connected, that does not
 // reach the image border) that lies wholly in `under`.
 void fillHolesUnder(std::vector<uint8_t>& mask, const std::vector<uint8_t>& under, int w, int h) {
@@ -117,9 +122,6 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
     c.values.assign(static_cast<size_t>(w) * h, 0.0f);
     const PixelBox b = maskBounds(grown, w, h);
     if (b.empty()) return c;
-    auto colourAt = [&](size_t k) {
-        return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
-    };
     constexpr int kReach = 2;
     constexpr double kLeastContrast = 0.1;  // 0–1 units: closer than this, no share is told
     for (int y = std::max(0, b.y0 - kReach); y <= std::min(h - 1, b.y1 + kReach); ++y)
@@ -137,9 +139,9 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                     if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
                     const size_t q = static_cast<size_t>(yy) * w + xx;
                     if (grown[q]) continue;
-                    const Vec3 v = colourAt(q) - col;
+                    const Vec3 v = colourAt(image, q) - col;
                     const double d = dot3(v, v);
-                    if (d > furthest) furthest = d, other = colourAt(q);
+                    if (d > furthest) furthest = d, other = colourAt(image, q);
                 }
             const Vec3 axis = col - other;
             const double len2 = dot3(axis, axis);
@@ -147,7 +149,7 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                 c.values[k] = own[k] ? 1.0f : 0.0f;
                 continue;
             }
-            const double share = dot3(colourAt(k) - other, axis) / len2;
+            const double share = dot3(colourAt(image, k) - other, axis) / len2;
             c.values[k] = static_cast<float>(std::clamp(share, 0.0, 1.0));
         }
     return c;
@@ -302,9 +304,6 @@ double blendResidual(const Vec3& c, const Vec3& col, const Vec3& other) {
 FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::vector<size_t>& all,
                           double maxError, const FlatOptions& options) {
     const int w = own.width, h = own.height;
-    auto colourAt = [&](size_t k) {
-        return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
-    };
     auto outside = [&](size_t k, auto&& visit) {
         const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
         for (int dy = -1; dy <= 1; ++dy)
@@ -312,7 +311,7 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
                 const int xx = x + dx, yy = y + dy;
                 if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
                 const size_t q = static_cast<size_t>(yy) * w + xx;
-                if (!own.mask[q]) visit(colourAt(q));
+                if (!own.mask[q]) visit(colourAt(image, q));
             }
     };
     Vec3 around;
@@ -321,7 +320,7 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
     if (aroundCount > 0) around = (1.0 / double(aroundCount)) * around;
     std::vector<std::pair<double, size_t>> contrast;
     for (size_t k : all) {
-        const Vec3 d = colourAt(k) - around;
+        const Vec3 d = colourAt(image, k) - around;
         contrast.push_back({-dot3(d, d), k});
     }
     const size_t purest = std::max<size_t>(1, all.size() / 4);
@@ -334,7 +333,7 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
     double sum = 0;
     long outliers = 0;
     for (size_t k : all) {
-        const Vec3 c = colourAt(k);
+        const Vec3 c = colourAt(image, k);
         double best = blendResidual(c, fit.col, fit.col);
         outside(k, [&](const Vec3& v) { best = std::min(best, blendResidual(c, fit.col, v)); });
         sum += 255 * best;

@@ -416,9 +416,10 @@ RenderResult renderMeshes(const std::vector<const GradientMesh*>& meshes, int ca
         for (; nextShape < shapes.size() && shapes[nextShape].layer <= layer; ++nextShape)
             renderShape(shapes[nextShape], options, result.image, target.samples);
     };
-    auto shapeBefore = [&](size_t m) {  // a shape painted between meshes m - 1 and m
-        return std::any_of(shapes.begin(), shapes.end(),
-                           [m](const FlatShape& s) { return s.layer == m; });
+    // Whether a shape is painted between meshes m - 1 and m (shapes are in paint order, and
+    // those up to the group's first mesh are painted).
+    auto shapeBefore = [&](size_t m) {
+        return nextShape < shapes.size() && shapes[nextShape].layer <= m;
     };
     for (size_t m = 0; m < meshes.size();) {
         shapesUpTo(m);
