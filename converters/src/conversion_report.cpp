@@ -41,6 +41,8 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"failed\": " << report.failedRegions << ", \"holes_filled\": " << report.filledRegions
       << ", \"thin_parts_apart\": " << report.trimmedRegions
       << ", \"split_at_necks\": " << report.splitRegions << ", \"flat\": " << report.flatRegions
+      << ", \"thin_structures\": " << segmentation.thinStructures
+      << ", \"ink_lines\": " << segmentation.inkLines
       << ", \"base_patches\": " << report.basePatches
       << ", \"region_uncovered\": " << num(report.regionUncovered)
       << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions
@@ -49,6 +51,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"grabcut\": " << num(segmentation.grabCutSeconds)
       << ", \"grow\": " << num(segmentation.growSeconds)
       << ", \"merge\": " << num(segmentation.mergeSeconds)
+      << ", \"ink\": " << num(segmentation.inkSeconds)
       << ", \"regions\": " << num(report.regionsSeconds)
       << ", \"convert_wall\": " << num(report.convertSeconds)
       << ", \"measure\": " << num(report.measureSeconds)

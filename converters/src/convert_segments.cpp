@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <new>
 #include <thread>
@@ -420,7 +419,8 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
 
 namespace {
 
-// The image's regions as the segmentation draws them; times and figures into segmentReport.
+// The image's regions as the segmentation draws them, the ink lines last (drawn over the
+// regions they divide, whatever their size); times and figures into segmentReport.
 std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertOptions& options,
                                    const std::string& imageName, Segmentation& seg,
                                    SegmentConvertReport& segmentReport) {
@@ -443,6 +443,9 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
     regionOptions.minHole = options.convert.minHole;
     std::vector<Region> regions =
         extractRegionsFromLabels(seg.width, seg.height, seg.labels, regionOptions);
+    const int firstInk = seg.count - seg.inkLabels;
+    std::stable_partition(regions.begin(), regions.end(),
+                          [&](const Region& r) { return r.label < firstInk; });
     segmentReport.regionsSeconds = since(t0);
     segmentReport.convert.seconds.regions =
         segmentReport.segmentSeconds + segmentReport.regionsSeconds;
@@ -454,9 +457,11 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
 // colour of its own region and seams show the region beneath.
 class RegionConverter {
 public:
-    RegionConverter(const RgbaImage& image, const std::vector<Region>& regions,
+    // Regions from firstInk on are ink lines (segmentRegions).
+    RegionConverter(const RgbaImage& image, const std::vector<Region>& regions, size_t firstInk,
                     const SegmentConvertOptions& options)
-        : image_(image), regions_(regions), options_(options), caches_(regions.size()) {
+        : image_(image), regions_(regions), firstInk_(firstInk), options_(options),
+          caches_(regions.size()) {
         // Each region's fit renders on one thread when regions run in parallel.
         const int hw = std::max(1u, std::thread::hardware_concurrency());
         workers_ = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
@@ -480,7 +485,8 @@ public:
                 Region own = regions[static_cast<size_t>(k)];
                 for (size_t p = 0; p < own.mask.size(); ++p) own.mask[p] = lastAt[p] == k;
                 flat_[static_cast<size_t>(k)] =
-                    fitFlatColour(image, own, options.convert.maxError, options.flat);
+                    fitFlatColour(image, own, options.convert.maxError,
+                                  static_cast<size_t>(k) >= firstInk, options.flat);
             });
         }
     }
@@ -520,9 +526,13 @@ private:
         RegionOutcome out;
         const Region& own = regions_[k];
         try {
+            FlatOptions flatOptions = options_.flat;
+            if (k >= firstInk_) {
+                flatOptions.curveTolerance = flatOptions.inkCurveTolerance;
+                flatOptions.blendEachSide = true;
+            }
             out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
-                                         drawnLaterOrNone(k),
-                                         options_.flat)};
+                                         drawnLaterOrNone(k), flatOptions)};
         } catch (const Error& e) {
             out.fallback = "as a flat shape: " + e.reason();
             return out;
@@ -553,6 +563,7 @@ private:
 
     const RgbaImage& image_;
     const std::vector<Region>& regions_;
+    const size_t firstInk_;
     const SegmentConvertOptions& options_;
     ConvertOptions convert_;
     int workers_ = 1;
@@ -713,7 +724,10 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         segmentRegions(image, options, imageName, seg, segmentReport);
 
     auto t0 = Clock::now();
-    RegionConverter converter(image, regions, options);
+    const size_t firstInk = static_cast<size_t>(std::count_if(
+        regions.begin(), regions.end(),
+        [&](const Region& r) { return r.label < seg.count - seg.inkLabels; }));
+    RegionConverter converter(image, regions, firstInk, options);
     std::vector<RegionOutcome> outcomes;
     if (options.totalPatches > 0 && !regions.empty()) {
         outcomes = convertWithinTotal(converter, regions, options, segmentReport);

@@ -107,15 +107,52 @@ void fillHolesUnder(std::vector<uint8_t>& mask, const std::vector<uint8_t>& unde
     }
 }
 
+// How far colour c lies from every blend of `col` with `other` (0–1 units, per channel mean).
+double blendResidual(const Vec3& c, const Vec3& col, const Vec3& other) {
+    const Vec3 axis = col - other;
+    const double len2 = dot3(axis, axis);
+    const double share = len2 > 0 ? std::clamp(dot3(c - other, axis) / len2, 0.0, 1.0) : 1.0;
+    const Vec3 d = c - (other + share * axis);
+    return (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3;
+}
+
+// The colour that pixel (x, y) blends with the shape's colour `col`, among the pixels within
+// `reach` that the shape does not reach (`grown` 0): the one furthest from col; or, with
+// `eachSide` (a line between two regions, which blends with each on its own side), of those
+// at least 0.25 (0–1 units) from col the one that leaves the least residual. `col` itself
+// when there is no such pixel.
+Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int x, int y,
+                  int reach, const Vec3& col, bool eachSide) {
+    const int w = image.width, h = image.height;
+    constexpr double kClearContrast = 0.25;
+    const Vec3 c = colourAt(image, static_cast<size_t>(y) * w + x);
+    Vec3 best = col, furthest = col;
+    double bestResidual = INFINITY, furthestDistance = -1;
+    for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+            const size_t q = static_cast<size_t>(yy) * w + xx;
+            if (grown[q]) continue;
+            const Vec3 v = colourAt(image, q);
+            const double d = dot3(v - col, v - col);
+            if (d > furthestDistance) furthestDistance = d, furthest = v;
+            if (d < kClearContrast * kClearContrast) continue;
+            const double r = blendResidual(c, col, v);
+            if (r < bestResidual) bestResidual = r, best = v;
+        }
+    return eachSide && std::isfinite(bestResidual) ? best : furthest;
+}
+
 // How much of the shape's colour `col` each pixel holds, for tracing its outline between pixel
 // centres: 1 where the shape reaches under later regions (`grown` and `under`, or grown beyond
-// `own`: they paint over it), else the share of `col` in the pixel's colour against the colour
-// furthest from it among the pixels within two pixels that the shape does not reach (its
-// anti-aliased border blends the two); a pixel with no such neighbour, or whose neighbours' colour
-// is too close to `col` to tell a share, is 1 in the region and 0 outside it.
+// `own`: they paint over it), else the share of `col` in the pixel's colour against its blend
+// partner within two pixels (blendPartner; its anti-aliased border blends the two); a pixel
+// with no such neighbour, or whose neighbours' colour is too close to `col` to tell a share,
+// is 1 in the region and 0 outside it.
 Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                        const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
-                       const Vec3& col) {
+                       const Vec3& col, bool eachSide) {
     const int w = image.width, h = image.height;
     Coverage c;
     c.width = w, c.height = h;
@@ -131,21 +168,10 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                 c.values[k] = 1;
                 continue;
             }
-            Vec3 other;
-            double furthest = -1;
-            for (int dy = -kReach; dy <= kReach; ++dy)
-                for (int dx = -kReach; dx <= kReach; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const size_t q = static_cast<size_t>(yy) * w + xx;
-                    if (grown[q]) continue;
-                    const Vec3 v = colourAt(image, q) - col;
-                    const double d = dot3(v, v);
-                    if (d > furthest) furthest = d, other = colourAt(image, q);
-                }
+            const Vec3 other = blendPartner(image, grown, x, y, kReach, col, eachSide);
             const Vec3 axis = col - other;
             const double len2 = dot3(axis, axis);
-            if (furthest < 0 || len2 < kLeastContrast * kLeastContrast) {
+            if (len2 < kLeastContrast * kLeastContrast) {
                 c.values[k] = own[k] ? 1.0f : 0.0f;
                 continue;
             }
@@ -288,21 +314,14 @@ double turnAngle(Vec2 before, Vec2 after) {
 }
 
 
-// How far colour c lies from every blend of `col` with `other` (0–1 units, per channel mean).
-double blendResidual(const Vec3& c, const Vec3& col, const Vec3& other) {
-    const Vec3 axis = col - other;
-    const double len2 = dot3(axis, axis);
-    const double share = len2 > 0 ? std::clamp(dot3(c - other, axis) / len2, 0.0, 1.0) : 1.0;
-    const Vec3 d = c - (other + share * axis);
-    return (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3;
-}
 
 // A thin region (a line, a rim) is nearly all anti-aliased border: its colour is the mean of its
 // quarter of pixels furthest from the colours around it, and each pixel is judged by how far it
 // lies from a blend of that colour with one of its outside neighbours' (what the shape's
 // anti-aliased outline draws there).
 FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::vector<size_t>& all,
-                          double maxError, const FlatOptions& options) {
+                          double maxError, double errorShare, double outlierShare,
+                          const FlatOptions& options) {
     const int w = own.width, h = own.height;
     auto outside = [&](size_t k, auto&& visit) {
         const int x = static_cast<int>(k % w), y = static_cast<int>(k / w);
@@ -343,14 +362,21 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
     fit.all = flatError(image, all, fit.col, INFINITY, ignored);
     fit.interior = fit.all;
     fit.interior.meanAbs = sum / double(all.size());
-    fit.flat = fit.interior.meanAbs <= options.errorShare * maxError &&
-               double(outliers) <= options.outlierShare * double(all.size());
+    fit.flat = fit.interior.meanAbs <= errorShare * maxError &&
+               double(outliers) <= outlierShare * double(all.size());
     return fit;
+}
+
+// Whether any pixel is set in both masks.
+bool holdsAny(const std::vector<uint8_t>& mask, const std::vector<uint8_t>& own) {
+    for (size_t k = 0; k < mask.size(); ++k)
+        if (mask[k] && own[k]) return true;
+    return false;
 }
 
 }  // namespace
 
-FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError,
+FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError, bool inkLine,
                       const FlatOptions& options) {
     FlatFit fit;
     const int w = own.width, h = own.height;
@@ -370,7 +396,16 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
     const bool fewInterior =
         static_cast<int>(interior.size()) < options.minInterior ||
         double(interior.size()) < options.minInteriorShare * double(all.size());
-    if (fewInterior) return fitThinFlatColour(image, own, all, maxError, options);
+    if (inkLine) {
+        // Flat whatever its error: what else would draw it, a mesh strip a few pixels wide,
+        // draws it less cleanly in every consumer (and, under a patch budget, hardly at all).
+        FlatFit fit = fitThinFlatColour(image, own, all, maxError, 0, 0, options);
+        fit.flat = true;
+        return fit;
+    }
+    if (fewInterior)
+        return fitThinFlatColour(image, own, all, maxError, options.errorShare,
+                                 options.outlierShare, options);
     fit.col = meanColour(image, interior);
     long outliers = 0, ignored = 0;
     fit.interior = flatError(image, interior, fit.col, options.outlierError * maxError, outliers);
@@ -432,16 +467,22 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     regionOptions.simplifyTolerance = 0.1;
     regionOptions.maxSegment = 1e6;
     regionOptions.smoothing = options.outlineSmoothing;
+    const bool sameSize = image.width == w && image.height == h;
     const std::vector<Region> traced = extractRegions(
-        image.width == w && image.height == h ? shareCoverage(image, own.mask, grown, under, col)
-                                              : coverageFromBits(w, h, grown),
+        sameSize ? shareCoverage(image, own.mask, grown, under, col, options.blendEachSide)
+                 : coverageFromBits(w, h, grown),
         regionOptions);
     if (traced.empty()) throw Error("the flat region vanished");
     FlatShape shape;
     shape.col = col;
-    shape.subpaths.push_back(fitClosedCubics(traced.front().outer.points, options.curveTolerance));
-    for (const Polygon& hole : traced.front().holes)
-        shape.subpaths.push_back(fitClosedCubics(hole.points, options.curveTolerance));
+    // Every piece the outline traces around some of the region's pixels: a line whose coverage
+    // dips below one half somewhere traces as several.
+    for (const Region& piece : traced) {
+        if (!holdsAny(piece.mask, own.mask)) continue;  // another region's border, not ours
+        shape.subpaths.push_back(fitClosedCubics(piece.outer.points, options.curveTolerance));
+        for (const Polygon& hole : piece.holes)
+            shape.subpaths.push_back(fitClosedCubics(hole.points, options.curveTolerance));
+    }
     return shape;
 }
 

@@ -16,6 +16,7 @@
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
 #include "segment_borders.h"
+#include "segment_ink.h"
 #include "segment_thin.h"
 
 namespace gm {
@@ -64,6 +65,12 @@ struct MergeParams {
     long keptMinSize = std::numeric_limits<long>::max();
     double keepContrast = 0;
     double thinContrast = 0;  // thin components this distinct are kept (mergeSmallAndThin)
+    // When set (width*height): components mostly of these pixels (ink lines), and those wholly
+    // enclosed by them, of at least minInkPiece pixels are never merged; ink takes in a
+    // neighbour only when it has no other; of the other components, only the pieces that a
+    // label lost to ink, and a label's largest component when under minKeptPiece, are merged.
+    const std::vector<uint8_t>* ink = nullptr;
+    long minInkPiece = 0, minKeptPiece = 0;
 };
 MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const MergeParams& mp);
 
@@ -518,6 +525,36 @@ public:
 
     int components() const { return C_; }
 
+    // Marks the components mostly of `ink` pixels, and which are never merged
+    // (MergeParams::ink).
+    void markInk(const std::vector<int>& labels, const std::vector<uint8_t>& ink,
+                 long minInkPiece, long minKeptPiece) {
+        std::vector<long> inkPixels(static_cast<size_t>(C_), 0);
+        std::vector<int> labelOf(static_cast<size_t>(C_), 0);
+        for (size_t p = 0; p < ink.size(); ++p) {
+            inkPixels[static_cast<size_t>(cc_.of[p])] += ink[p];
+            labelOf[static_cast<size_t>(cc_.of[p])] = labels[p];
+        }
+        std::unordered_map<int, int> largest;  // label -> its largest component
+        for (int c = 0; c < C_; ++c) {
+            ink_.push_back(2 * inkPixels[static_cast<size_t>(c)] > size_[c]);
+            auto [it, added] = largest.insert({labelOf[static_cast<size_t>(c)], c});
+            if (!added && size_[c] > size_[it->second]) it->second = c;
+        }
+        fixed_.assign(static_cast<size_t>(C_), 0);
+        for (int c = 0; c < C_; ++c) {
+            // An ink line, or a piece wholly enclosed by ink (a lens where two outlines cross).
+            const bool enclosed = std::all_of(adj_[c].begin(), adj_[c].end(), [&](const auto& nb) {
+                return ink_[static_cast<size_t>(nb.first)] != 0;
+            });
+            fixed_[static_cast<size_t>(c)] =
+                (ink_[static_cast<size_t>(c)] || enclosed) && size_[c] >= minInkPiece;
+        }
+        for (const auto& [label, c] : largest)
+            if (!ink_[static_cast<size_t>(c)] && size_[c] >= minKeptPiece)
+                fixed_[static_cast<size_t>(c)] = 1;
+    }
+
     // Per component: whether its label is at least `first` or it has at least minSize pixels.
     std::vector<uint8_t> keepableComponents(const std::vector<int>& labels, int first,
                                             long minSize) const {
@@ -564,6 +601,7 @@ public:
                    !betweenNeighbours(c);
         };
         auto needsMerge = [&](int c) {
+            if (!fixed_.empty() && fixed_[static_cast<size_t>(c)]) return false;
             return (thin_[c] && !keptThin(c)) || (size_[c] < minRegion && !distinct(c));
         };
         using Item = std::pair<long, int>;  // size, component: the smallest first
@@ -738,7 +776,10 @@ private:
         int best = -1;
         double bestD = 0;
         long bestLen = 0;
+        const bool onlyInk = std::all_of(adj_[c].begin(), adj_[c].end(),
+                                         [&](const auto& nb) { return isInk(nb.first); });
         for (const auto& [n, border] : adj_[c]) {
+            if (isInk(n) && !onlyInk) continue;
             double d = 0;
             for (int k = 0; k < 3; ++k) {
                 const double e = sum_[n * 3 + k] / size_[n] - m[k];
@@ -754,6 +795,8 @@ private:
         }
         return best;
     }
+
+    bool isInk(int c) const { return !ink_.empty() && ink_[static_cast<size_t>(c)]; }
 
     // Merges a and b (both roots, adjacent); the one with the larger adjacency map survives.
     int unite(int a, int b) {
@@ -775,6 +818,10 @@ private:
         size_[b] += size_[a];
         for (int k = 0; k < 3; ++k) sum_[b * 3 + k] += sum_[a * 3 + k];
         thin_[b] = thin_[a] && thin_[b];
+        if (!fixed_.empty()) {
+            fixed_[static_cast<size_t>(b)] |= fixed_[static_cast<size_t>(a)];
+            ink_[static_cast<size_t>(b)] |= ink_[static_cast<size_t>(a)];
+        }
         return b;
     }
 
@@ -788,6 +835,7 @@ private:
     cv::Mat interior_;
     std::vector<uint8_t> thin_;
     std::vector<int> parent_;
+    std::vector<uint8_t> ink_, fixed_;  // per component (markInk); empty when not marked
 };
 
 // Splits labels into 4-connected components and merges every component under minRegion pixels
@@ -800,6 +848,7 @@ MergeResult mergeRegions(const cv::Mat& bgr, std::vector<int>& labels, const Mer
     MergeResult res;
     res.components = graph.components();
     graph.markThin(mp.sliverWidth);
+    if (mp.ink) graph.markInk(labels, *mp.ink, mp.minInkPiece, mp.minKeptPiece);
     res.merged = graph.mergeSmallAndThin(mp.minRegion,
                                          graph.keepableComponents(labels, mp.firstKept, mp.keptMinSize),
                                          mp.keepContrast, mp.thinContrast);
@@ -818,9 +867,50 @@ std::vector<int> upscaleToImage(const cv::Mat& small, const std::vector<int>& la
     return upscaleLabelsRefined(small, labels, bgr, options.threads, &st.borderRefined);
 }
 
+// Per label: whether most of its pixels are ink (liftInk).
+std::vector<uint8_t> inkLabels(const std::vector<int>& labels, int count,
+                               const std::vector<uint8_t>& ink) {
+    std::vector<long> inkPixels(static_cast<size_t>(count), 0), pixels(inkPixels);
+    for (size_t p = 0; p < labels.size(); ++p) {
+        ++pixels[static_cast<size_t>(labels[p])];
+        inkPixels[static_cast<size_t>(labels[p])] += ink[p];
+    }
+    std::vector<uint8_t> isInk(static_cast<size_t>(count), 0);
+    for (size_t l = 0; l < isInk.size(); ++l) isInk[l] = 2 * inkPixels[l] > pixels[l];
+    return isInk;
+}
+
+int labelCount(const std::vector<int>& labels) {
+    return labels.empty() ? 0 : *std::max_element(labels.begin(), labels.end()) + 1;
+}
+
+// (5) Ink lines found at full size take their pixels from the merged labels
+// (segment_ink.h); the pieces of labels they cut off are merged like small regions. Returns the
+// ink pixels.
+std::vector<uint8_t> liftInk(const cv::Mat& bgr, std::vector<int>& labels, int count,
+                             long minPixels, const MergeParams& merge,
+                             const SegmentOptions& options) {
+    std::vector<uint8_t> ink(labels.size(), 0);
+    InkLineOptions inkOptions;
+    inkOptions.minPixels = minPixels;
+    if (options.minRegion > 0) inkOptions.minPiece = options.minRegion;
+    inkOptions.contrast = options.distinctContrast;
+    inkOptions.threads = options.threads;
+    if (!options.inkLines || liftInkLines(bgr, labels, count, ink, inkOptions) == count)
+        return ink;
+    MergeParams pieces = merge;
+    pieces.weakEdge = 0;
+    pieces.firstKept = std::numeric_limits<int>::max();
+    pieces.ink = &ink;
+    pieces.minInkPiece = inkOptions.minPiece;
+    pieces.minKeptPiece = minPixels;
+    mergeRegions(bgr, labels, pieces);
+    return ink;
+}
+
 // Renumbers the labels 0..count-1 by size, largest first (ties: the one met first in scan
-// order); returns the count.
-int relabelBySize(std::vector<int>& labels, int count) {
+// order), the labels marked `last` after all others; returns the count.
+int relabelBySize(std::vector<int>& labels, int count, const std::vector<uint8_t>& last) {
     std::vector<long> size(static_cast<size_t>(count), 0);
     std::vector<size_t> first(static_cast<size_t>(count), labels.size());
     for (size_t p = 0; p < labels.size(); ++p) {
@@ -831,6 +921,7 @@ int relabelBySize(std::vector<int>& labels, int count) {
     std::vector<int> order(static_cast<size_t>(count));
     for (int l = 0; l < count; ++l) order[static_cast<size_t>(l)] = l;
     std::sort(order.begin(), order.end(), [&](int a, int b) {
+        if (!last.empty() && last[a] != last[b]) return last[a] < last[b];
         return size[a] != size[b] ? size[a] > size[b] : first[a] < first[b];
     });
     std::vector<int> dense(static_cast<size_t>(count));
@@ -952,13 +1043,23 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
         merge.keepContrast = options.distinctContrast;
     }
     const MergeResult merged = mergeRegions(bgr, seg.labels, merge);
-    // Rings no wider than about 7 px are cut into two arcs (segment_thin.h).
-    seg.count = st.regions =
-        relabelBySize(seg.labels, cutThinLoops(seg.labels, W, H, merged.count, 3, smallestThin));
     st.components = merged.components;
     st.merged = merged.merged;
     st.weakMerged = merged.weakMerged;
     st.mergeSeconds = secondsSince(t);
+
+    // (5) Ink lines, drawn over the regions they divide.
+    t = Clock::now();
+    const std::vector<uint8_t> ink =
+        liftInk(bgr, seg.labels, merged.count, smallestThin, merge, options);
+    st.inkSeconds = secondsSince(t);
+
+    // Rings no wider than about 7 px are cut into two arcs (segment_thin.h).
+    const int count = cutThinLoops(seg.labels, W, H, labelCount(seg.labels), 3, smallestThin);
+    const std::vector<uint8_t> inkLabel = inkLabels(seg.labels, count, ink);
+    seg.count = st.regions = relabelBySize(seg.labels, count, inkLabel);
+    st.inkLines = seg.inkLabels =
+        static_cast<int>(std::count(inkLabel.begin(), inkLabel.end(), 1));
     st.seconds = secondsSince(t0);
     return seg;
 }

@@ -56,13 +56,17 @@ inline std::string labelMapProblem(const Segmentation& s, long minRegion,
         if (l < 0 || l >= s.count) return "label " + std::to_string(l) + " out of range";
         ++size[l];
     }
+    // The ink lines come last (each group ordered by size) and, under the default minimum
+    // region, may be as small as 16 pixels.
+    const int firstInk = s.count - s.inkLabels;
     for (int l = 0; l < s.count; ++l) {
         if (size[l] == 0) return "label " + std::to_string(l) + " unused (not dense)";
-        if (s.count > 1 && size[l] < minRegion &&
+        const long least = l >= firstInk && thinMinRegion > 0 ? std::min(minRegion, 16L) : minRegion;
+        if (s.count > 1 && size[l] < least &&
             !(thinMinRegion > 0 && size[l] >= thinMinRegion && thinLabel(s, l)))
             return "label " + std::to_string(l) + " has " + std::to_string(size[l]) +
-                   " pixels, under " + std::to_string(minRegion);
-        if (l > 0 && size[l] > size[l - 1]) return "labels not ordered by size";
+                   " pixels, under " + std::to_string(least);
+        if (l > 0 && l != firstInk && size[l] > size[l - 1]) return "labels not ordered by size";
     }
     // Each label one 4-connected component: flood each label from its first pixel.
     std::vector<uint8_t> seen(N, 0);

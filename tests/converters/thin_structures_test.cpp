@@ -94,31 +94,13 @@ SceneFigures convertAndMeasure(const test::ThinScene& scene, const std::string& 
 
 }  // namespace
 
-TEST_CASE("lines and rings 2-4 px wide come through a whole-image conversion",
+TEST_CASE("lines and rings 2-4 px wide convert unbroken and within E 10 inside",
           "[convert][segment]") {
-    // What the conversion holds to now: every structure its own region (none left to the
-    // background's mesh), no stray paint; a few pixels along the 2-px rings, the bends of the
-    // polylines and the tips of 2-px lines drawn as flat shapes (their outline, traced at half
-    // coverage between pixel centres, ends in a point) are still off (the next test).
+    // Issue 25, item 4: every structure its own ink line or region (none left to the
+    // background's mesh), unbroken along its centre line, within E 10 inside, no stray paint.
     const SceneFigures f = convertAndMeasure(test::thinStructuresScene(), "thin_lines_render.png");
     INFO(f.text);
-    int unbroken = 0;
-    for (const StructureFigures& s : f.structures) {
-        unbroken += s.broken == 0;
-        CHECK(s.broken <= 12);
-        CHECK(s.coreError <= 15);
-    }
-    CHECK(unbroken >= 13);
-    CHECK(f.stray == 0);
-}
-
-TEST_CASE("lines and rings 2-4 px wide convert unbroken and within E 10 inside",
-          "[convert][segment][!mayfail]") {
-    // The target of issue 25 (item 4), not met yet: the meshes of the thinnest rings and of
-    // the polylines' bends.
-    const SceneFigures f =
-        convertAndMeasure(test::thinStructuresScene(), "thin_lines_render_target.png");
-    INFO(f.text);
+    WARN(f.text);
     for (const StructureFigures& s : f.structures) {
         CHECK(s.broken == 0);
         CHECK(s.coreError <= 10);

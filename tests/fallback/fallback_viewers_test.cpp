@@ -97,11 +97,13 @@ TEST_CASE("rsvg-convert and Chromium's <img> show the fallback as gradmesh rende
         const fs::path img = cropped(shot, v);
         const gmtest::DiffStats byImg = interiorError(v.ours, img);
         // The embedded pixels are the render of the document written (the .gmb's): the
-        // viewers show them as they are.
+        // viewers show them as they are. Flat shapes painted over every mesh (the fish's ink
+        // lines) are left out of the image and drawn by the viewer itself, over it.
+        const bool shapesOnTop = gmtest::slurp(v.svg).find("<path fill=") != std::string::npos;
         const double imgExact = interiorError(v.embedded, img).mean;
         CHECK(byImg.count > 1000);
         CHECK(byImg.mean <= 1.0);
-        CHECK(imgExact <= 0.1);
+        if (!shapesOnTop) CHECK(imgExact <= 0.1);
         if (v.label.find("webp") != std::string::npos) {
             WARN(v.label << ": Chromium <img> E " << byImg.mean << " (max " << byImg.max
                          << ") from the render of the SVG, " << imgExact << " from the embedded");
@@ -116,7 +118,7 @@ TEST_CASE("rsvg-convert and Chromium's <img> show the fallback as gradmesh rende
                      << ") from the render of the SVG; " << rsvgExact << " and " << imgExact
                      << " from the embedded");
         CHECK(byRsvg.mean <= 1.0);
-        CHECK(rsvgExact <= 0.1);
+        if (!shapesOnTop) CHECK(rsvgExact <= 0.1);
     }
 
     // .svgz carries the fallback as well.

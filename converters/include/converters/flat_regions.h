@@ -29,6 +29,11 @@ struct FlatOptions {
     double outlierShare = 0.02;
     double outlierError = 4;
     double curveTolerance = 0.5;    // pixels: the Bézier outline against the traced loop
+    double inkCurveTolerance = 0.15;  // ... for an ink line, whose width is a pixel or two
+    // Where the outline lies, each border pixel is read as a blend of the shape's colour with
+    // the colour around it furthest from it; with blendEachSide (ink lines, which part two
+    // regions), with the one around it that explains it best.
+    bool blendEachSide = false;
     double outlineSmoothing = 0.4;  // Gaussian sigma (pixels) on the coverage traced
     // Holes of fewer pixels are filled: a border pixel that holds less than half of the shape's
     // colour makes a speck of a hole, which what is drawn on top covers anyway.
@@ -43,8 +48,9 @@ struct FlatFit {
     FitError all;       // ... and over all the region's pixels
 };
 
+// An ink line (segment_ink.h, `inkLine`) is always flat, its colour fitted as a thin region's.
 FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError,
-                      const FlatOptions& options = {});
+                      bool inkLine = false, const FlatOptions& options = {});
 
 // The region as a flat shape of colour `col`: its outline traced around its pixels grown by
 // `overlap` pixels into `under` (width*height, the pixels of whatever is drawn on top of it),

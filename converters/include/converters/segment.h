@@ -76,10 +76,14 @@ struct SegmentOptions {
     // contrast keeps thin regions (lines, rings) from the sliver merge and finds thin
     // structures at full size (segment_thin.h). 0 = merge by size alone.
     double distinctContrast = 100;
+    // Ink lines between regions (a drawing's outlines) become labels of their own, drawn over
+    // the regions they divide (segment_ink.h; the contrast is distinctContrast).
+    bool inkLines = true;
 };
 
 struct SegmentStats {
     double seconds = 0, fhSeconds = 0, grabCutSeconds = 0, growSeconds = 0, mergeSeconds = 0;
+    double inkSeconds = 0;  // finding ink lines and merging what they cut off
     int fhRegions = 0, regions = 0;
     long grabCutChanged = 0, grown = 0, merged = 0;
     long weakMerged = 0;      // merges across weak borders (final stage)
@@ -93,15 +97,20 @@ struct SegmentStats {
     long grabCutPixels = 0;   // total area of their GrabCut windows
     int components = 0;       // 4-connected components before merging
     int thinStructures = 0;   // lines and rings found at full size (segment_thin.h)
+    int inkLines = 0;         // of the final labels, ink lines drawn between regions
 };
 
 struct Segmentation {
     int width = 0, height = 0, count = 0;
     // width*height, row-major, every pixel in 0..count-1. Each label is ONE 4-connected set
     // of at least minRegion pixels (unless the whole image is smaller; under the default
-    // minRegion, a distinct line or arc may have as few as 64); labels are ordered by size,
-    // largest first.
+    // minRegion, a distinct line or arc may have as few as 64, a piece of an ink line 16);
+    // labels are ordered by size, largest first, except the ink lines.
     std::vector<int> labels;
+    // The last inkLabels labels are ink lines drawn between regions (a cartoon's outlines,
+    // segment_ink.h), after every other label whatever their size and by size among
+    // themselves: they are drawn over the regions they divide.
+    int inkLabels = 0;
     SegmentStats stats;
 };
 

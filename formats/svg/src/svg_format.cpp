@@ -1,5 +1,6 @@
 #include <zlib.h>
 
+#include <algorithm>
 #include <cctype>
 #include <memory>
 #include <utility>
@@ -127,8 +128,21 @@ private:
         if (options.svgFallback == "none" || !isSvgFallbackKind(options.svgFallback))
             return nullptr;
         if (!fallback_) throw Error("this build writes no SVG fallback images");
-        return std::make_unique<SvgFallbackImage>(
-            SvgFallbackImage{options.svgFallback, fallback_(doc, options.svgFallback)});
+        return std::make_unique<SvgFallbackImage>(SvgFallbackImage{
+            options.svgFallback, fallback_(withoutShapesOnTop(doc), options.svgFallback)});
+    }
+
+    // The document less the flat shapes painted over every mesh: a viewer that draws no meshes
+    // draws those paths itself over the image (in the image too, their anti-aliased edges
+    // would be painted twice).
+    static Document withoutShapesOnTop(const Document& doc) {
+        Document beneath = doc;
+        beneath.shapes.erase(std::remove_if(beneath.shapes.begin(), beneath.shapes.end(),
+                                            [&](const FlatShape& s) {
+                                                return s.layer >= doc.meshes.size();
+                                            }),
+                             beneath.shapes.end());
+        return beneath;
     }
 };
 
