@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "meshcore/parallel_for.h"
+#include "segment_ridges.h"
 
 namespace gm {
 
@@ -59,31 +60,23 @@ struct Ridges {
 // pixels that make it one, the pair it lies furthest from.
 uint8_t ridgeAt(const cv::Mat& bgr, int x, int y, const InkLineOptions& o,
                 std::array<Colour, 2>& sides, float& contrast) {
-    static const int kDirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     const Colour c = bgr.at<Colour>(y, x);
     const double yc = luma(c);
     uint8_t kind = 0;
     double best = 0;
-    for (const auto& d : kDirs)
-        for (int a = 1; a < o.maxSpan; ++a)
-            for (int b = 1; a + b <= o.maxSpan; ++b) {
-                const int xa = x - a * d[0], ya = y - a * d[1], xb = x + b * d[0], yb = y + b * d[1];
-                if (xa < 0 || ya < 0 || ya >= bgr.rows || xb >= bgr.cols || yb < 0 ||
-                    yb >= bgr.rows)
-                    continue;
-                const Colour sa = bgr.at<Colour>(ya, xa), sb = bgr.at<Colour>(yb, xb);
-                const double dark = std::min(luma(sa), luma(sb)) - yc;
-                const double light = yc - std::max(luma(sa), luma(sb));
-                if (std::max(dark, light) < 0.5 * o.pixelContrast ||
-                    std::min(distance(c, sa), distance(c, sb)) < o.pixelContrast)
-                    continue;
-                const double away = asBlend(c, sa, sb).residual;
-                if (away < o.pixelContrast || away <= best) continue;
-                best = away;
-                kind = dark > 0 ? 1 : 2;
-                sides = {sa, sb};
-                contrast = static_cast<float>(away);
-            }
+    forEachSidePair(bgr, x, y, o.maxSpan, [&](const Colour& sa, const Colour& sb) {
+        const double dark = std::min(luma(sa), luma(sb)) - yc;
+        const double light = yc - std::max(luma(sa), luma(sb));
+        if (std::max(dark, light) < 0.5 * o.pixelContrast ||
+            std::min(distance(c, sa), distance(c, sb)) < o.pixelContrast)
+            return;
+        const double away = asBlend(c, sa, sb).residual;
+        if (away < o.pixelContrast || away <= best) return;
+        best = away;
+        kind = dark > 0 ? 1 : 2;
+        sides = {sa, sb};
+        contrast = static_cast<float>(away);
+    });
     return kind;
 }
 

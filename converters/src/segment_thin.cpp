@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "meshcore/parallel_for.h"
+#include "segment_ridges.h"
 
 namespace gm {
 
@@ -38,23 +39,14 @@ struct Ridges {
 // than the structure's own anti-aliased fringe).
 bool ridgeAt(const cv::Mat& bgr, int x, int y, const ThinStructureOptions& o,
              std::array<float, 3>& side) {
-    static const int kDirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
     double best = 0;
-    for (const auto& d : kDirs)
-        for (int a = 1; a < o.maxSpan; ++a)
-            for (int b = 1; a + b <= o.maxSpan; ++b) {
-                const int xa = x - a * d[0], ya = y - a * d[1], xb = x + b * d[0], yb = y + b * d[1];
-                if (xa < 0 || ya < 0 || ya >= bgr.rows || xb >= bgr.cols || yb < 0 ||
-                    yb >= bgr.rows)
-                    continue;
-                const cv::Vec3b sa = bgr.at<cv::Vec3b>(ya, xa), sb = bgr.at<cv::Vec3b>(yb, xb);
-                const double away = std::min(distance(c, sa), distance(c, sb));
-                if (away < o.pixelContrast || 4 * distance(sa, sb) >= away || away <= best)
-                    continue;
-                best = away;
-                for (int k = 0; k < 3; ++k) side[k] = 0.5f * (sa[k] + sb[k]);
-            }
+    forEachSidePair(bgr, x, y, o.maxSpan, [&](const cv::Vec3b& sa, const cv::Vec3b& sb) {
+        const double away = std::min(distance(c, sa), distance(c, sb));
+        if (away < o.pixelContrast || 4 * distance(sa, sb) >= away || away <= best) return;
+        best = away;
+        for (int k = 0; k < 3; ++k) side[k] = 0.5f * (sa[k] + sb[k]);
+    });
     return best > 0;
 }
 
