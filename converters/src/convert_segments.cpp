@@ -429,6 +429,9 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
     try {
         SegmentOptions segmentOptions = options.segment;
         if (segmentOptions.threads == 0) segmentOptions.threads = options.threads;
+        // Free colour slopes bend as steeply as an outline does, in our renderer, the only
+        // one that draws them: for them ink lines as flat shapes only cost quality.
+        if (options.convert.colors == ColorMode::Fit) segmentOptions.inkLines = false;
         seg = segmentImage(image, segmentOptions);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;

@@ -77,7 +77,8 @@ struct SegmentOptions {
     // structures at full size (segment_thin.h). 0 = merge by size alone.
     double distinctContrast = 100;
     // Ink lines between regions (a drawing's outlines) become labels of their own, drawn over
-    // the regions they divide (segment_ink.h; the contrast is distinctContrast).
+    // the regions they divide (segment_ink.h; the contrast is distinctContrast). A whole-image
+    // conversion in the hermite colour model turns them off.
     bool inkLines = true;
 };
 
