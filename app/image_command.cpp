@@ -399,7 +399,14 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
     };
     if (progress) job.convert.progress = progress->callback();
     const std::string& out = targets.at(0).path;  // the one the report describes
-    for (const ImageTarget& t : targets) checkPlaces(in, t.path, job);
+    for (const ImageTarget& t : targets) {
+        checkPlaces(in, t.path, job);
+        // A compact file under a whole-image patch budget is about bytes, and ink lines'
+        // cubics cost bytes outside the budget (docs/design.md §5).
+        if (job.segmentOptions.totalPatches > 0 && writeOptions.compact &&
+            t.writer->name() == "gmb")
+            job.segmentOptions.segment.inkLines = false;
+    }
     // Every output of the run is written to its temporary and renamed into place together at
     // the end: a late failure (a report into /proc, a full disk) leaves an existing output as it
     // was. Created now, so that an unwritable place fails before the conversion's work.

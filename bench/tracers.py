@@ -1,6 +1,7 @@
 """Whole images against the flat-colour tracers, measured on what the user opens.
 
     python3 bench/tracers.py [IMAGE ...]        (outputs under bench-out/tracers/)
+    python3 bench/tracers.py --from bench-out/tracers/results.json   (the tables again)
 
 For each image (flattened over white first, so that every tool sees the same pixels):
 - gradmesh: `convert --segment --max-error E [--total-patches N]` at several points (E 3 alone is
@@ -12,8 +13,9 @@ stray_pixels (both over white): E, PSNR, and the stray pixels (error > 48 more t
 strong edge). Bytes are the SVG file, raw and gzipped (-9).
 
 Then, for each tracer point: our SVG's bytes at the tracer's PSNR (interpolated on our curve,
-log bytes linear in PSNR) over the tracer's bytes, raw and gzipped; and our PSNR at the tracer's
-bytes. Prints markdown tables; writes bench-out/tracers/results.json. GRADMESH and STRAY_PIXELS
+log bytes linear in PSNR) over the tracer's bytes, raw and gzipped ("≤ x" where the tracer's
+PSNR lies below our whole curve: our smallest file that reaches it); and our PSNR at the
+tracer's bytes. Prints markdown tables; writes bench-out/tracers/results.json. GRADMESH and STRAY_PIXELS
 name other builds of the two programs.
 """
 import gzip
@@ -31,8 +33,8 @@ IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png", "smarties.png", "openc
           "detect_blob.png", "thin_lines.png"]
 # Our points: (--max-error, --total-patches or None). The error targets alone give the middle
 # and the top of our curve (3 alone is convert's default); whole-image budgets give its low end.
-OUR_POINTS = [(2, 300), (2, 1000), (2, 3000), (8, None), (6, None), (4, None), (3, None),
-              (2, None)]
+OUR_POINTS = [(2, 100), (2, 300), (2, 1000), (2, 3000), (8, None), (6, None), (4, None),
+              (3, None), (2, None)]
 DEFAULT_POINT = (3, None)
 TRACERS = [("vtracer", p) for p in ["coarse", "photo", "default", "detailed"]] + \
           [("imagetracer", p) for p in ["posterized2", "smoothed", "default", "detailed"]]
@@ -129,22 +131,41 @@ def interpolate(curve, x_key, y_key, x, log_y):
     return None
 
 
+def smallest_at_least(ours, key, psnr):
+    """The fewest bytes (key) among our points of at least this PSNR; None if none reaches it."""
+    sizes = [p[key] for p in ours if p["psnr"] >= psnr]
+    return min(sizes) if sizes else None
+
+
 def compare(ours, theirs):
-    """Our bytes at each tracer point's PSNR (ratios) and our PSNR at its bytes."""
+    """Our bytes at each tracer point's PSNR (ratios) and our PSNR at its bytes. Where the
+    tracer's PSNR lies below our whole curve, the ratio is bounded by our smallest file that
+    reaches it (`bound`: "at most")."""
     rows = []
     for point in theirs:
         raw = interpolate(ours, "psnr", "bytes", point["psnr"], True)
         zipped = interpolate(ours, "psnr", "gzip", point["psnr"], True)
         psnr_raw = interpolate(ours, "bytes", "psnr", point["bytes"], False)
+        bound_raw = smallest_at_least(ours, "bytes", point["psnr"])
+        bound_gzip = smallest_at_least(ours, "gzip", point["psnr"])
         rows.append(dict(tool=point["tool"], preset=point["preset"],
                          ratio=raw / point["bytes"] if raw else None,
                          ratio_gzip=zipped / point["gzip"] if zipped else None,
+                         bound=bound_raw / point["bytes"] if bound_raw else None,
+                         bound_gzip=bound_gzip / point["gzip"] if bound_gzip else None,
                          our_psnr_at_bytes=psnr_raw))
     return rows
 
 
 def fmt(value, pattern):
     return "—" if value is None else pattern.format(value)
+
+
+def ratio_cell(value, bound):
+    """The interpolated ratio, else "≤" our smallest file's that reaches the PSNR."""
+    if value is not None:
+        return f"{value:.2f}"
+    return "—" if bound is None else f"≤ {bound:.2f}"
 
 
 def print_image(name, ours, theirs, comparison):
@@ -161,11 +182,23 @@ def print_image(name, ours, theirs, comparison):
     print("\n| tracer point | our bytes at its PSNR / its bytes (raw, gzip) | our PSNR at its bytes |")
     print("|---|---|---|")
     for row in comparison:
-        print(f"| {row['tool']} {row['preset']} | {fmt(row['ratio'], '{:.2f}')}, "
-              f"{fmt(row['ratio_gzip'], '{:.2f}')} | {fmt(row['our_psnr_at_bytes'], '{:.2f}')} |")
+        print(f"| {row['tool']} {row['preset']} | {ratio_cell(row['ratio'], row.get('bound'))}, "
+              f"{ratio_cell(row['ratio_gzip'], row.get('bound_gzip'))} | "
+              f"{fmt(row['our_psnr_at_bytes'], '{:.2f}')} |")
+
+
+def reprint(path):
+    """The tables again from a results.json, the ratios computed anew."""
+    with open(path) as f:
+        results = json.load(f)
+    for name, r in results.items():
+        print_image(name, r["ours"], r["tracers"], compare(r["ours"], r["tracers"]))
 
 
 def main():
+    if sys.argv[1:2] == ["--from"]:
+        reprint(sys.argv[2])
+        return
     names = sys.argv[1:] or IMAGES
     modules = install_tracers()
     results = {}

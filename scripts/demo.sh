@@ -40,6 +40,9 @@ $gm convert out/fruits.gmb -o out/fruits.svg
 $gm render out/fruits.gmb -o out/fruits.png
 $gm compare samples/fruits.jpg out/fruits.png
 $gm view out/fruits.gmb --image samples/fruits.jpg -o out/fruits.html
+# A cartoon: its ink outlines become flat shapes drawn over the regions' meshes.
+$gm convert samples/HappyFish.jpg --segment -o out/fish.svg
+$gm render out/fish.svg -o out/fish.png --background white
 # A whole image at about 1 KB: 50 patches shared out over the regions, compact level 6 (its
 # colours refitted to the file's grids).
 $gm convert samples/HappyFish.jpg --segment --max-error 2 --total-patches 50 --compact-level 6 -o out/fish-1k.gmb

@@ -731,6 +731,23 @@ TEST_CASE("segment mode, compact level 6: the file's colours are refitted to its
     CHECK(psnr > meshPsnr - 0.5);                   // level 6 cost 0.7 dB before the refit
 }
 
+TEST_CASE("ink lines are flat shapes, except in a compact file under a patch budget",
+          "[cli_convert][segment][ink]") {
+    // A compact .gmb under --total-patches is about bytes: the ink's cubics would cost bytes
+    // outside the budget (HappyFish at 50 patches, level 6: 945 B without them, 8.8 KB with).
+    const fs::path d = tmpDir("inkbudget");
+    const std::string in = q(std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg");
+    checkSuccess(gradmesh("convert " + in + " --segment -o " + q(d / "fish.svg"), d));
+    CHECK_THAT(gradmesh("info " + q(d / "fish.svg"), d).out, Contains("flat shapes:"));
+    checkSuccess(gradmesh("convert " + in + " --segment --total-patches 50 -o " + q(d / "b.svg"), d));
+    CHECK_THAT(gradmesh("info " + q(d / "b.svg"), d).out, Contains("flat shapes:"));
+    checkSuccess(gradmesh("convert " + in + " --segment --total-patches 50 --compact-level 6 -o " +
+                              q(d / "b.gmb"),
+                          d));
+    CHECK_THAT(gradmesh("info " + q(d / "b.gmb"), d).out, !Contains("flat shapes:"));
+    CHECK(fs::file_size(d / "b.gmb") < 2000);
+}
+
 TEST_CASE("every bundled sample converts as an object (GrabCut) and renders", "[cli_convert][samples]") {
     // A smoke test over real photos: chelsea.png once failed in the thin-parts fallback when
     // every thin part was under 16 px.
