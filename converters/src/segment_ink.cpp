@@ -67,13 +67,15 @@ uint8_t ridgeAt(const cv::Mat& bgr, int x, int y, const InkLineOptions& o,
     forEachSidePair(bgr, x, y, o.maxSpan, [&](const Colour& sa, const Colour& sb) {
         const double dark = std::min(luma(sa), luma(sb)) - yc;
         const double light = yc - std::max(luma(sa), luma(sb));
-        if (std::max(dark, light) < 0.5 * o.pixelContrast ||
-            std::min(distance(c, sa), distance(c, sb)) < o.pixelContrast)
+        const double nearer = std::min(distance(c, sa), distance(c, sb));
+        // Sides alike: a line of any hue on one surrounding.
+        const bool alike = 4 * distance(sa, sb) < nearer;
+        if ((!alike && std::max(dark, light) < 0.5 * o.pixelContrast) || nearer < o.pixelContrast)
             return;
         const double away = asBlend(c, sa, sb).residual;
         if (away < o.pixelContrast || away <= best) return;
         best = away;
-        kind = dark > 0 ? 1 : 2;
+        kind = yc < 0.5 * (luma(sa) + luma(sb)) ? 1 : 2;
         sides = {sa, sb};
         contrast = static_cast<float>(away);
     });

@@ -17,7 +17,8 @@ struct InkLineOptions {
     // A pixel is on an ink ridge when, along a row, a column or a diagonal, it lies at least
     // pixelContrast (0-255 RGB distance) from the pixels `a` before and `b` after it (a, b >= 1,
     // a + b <= maxSpan) and from every blend of the two, and is darker (or lighter) than both
-    // by at least half of pixelContrast in luma.
+    // by at least half of pixelContrast in luma, or the two are alike (a line of any hue on
+    // one surrounding: their distance under a quarter of the pixel's from the nearer).
     int maxSpan = 6;
     double pixelContrast = 50;
     // Neighbouring ridge pixels of the same kind (dark or light) closer in colour than this
