@@ -15,12 +15,6 @@ namespace {
 
 using Colour = cv::Vec3b;
 
-double distance(const Colour& a, const Colour& b) {
-    double d = 0;
-    for (int k = 0; k < 3; ++k) d += (double(a[k]) - b[k]) * (double(a[k]) - b[k]);
-    return std::sqrt(d);
-}
-
 double luma(const Colour& bgr) { return 0.114 * bgr[0] + 0.587 * bgr[1] + 0.299 * bgr[2]; }
 
 // Where c lies as a blend of `from` and `to`: the share t of `to` (unclamped) and the distance
@@ -67,9 +61,9 @@ uint8_t ridgeAt(const cv::Mat& bgr, int x, int y, const InkLineOptions& o,
     forEachSidePair(bgr, x, y, o.maxSpan, [&](const Colour& sa, const Colour& sb) {
         const double dark = std::min(luma(sa), luma(sb)) - yc;
         const double light = yc - std::max(luma(sa), luma(sb));
-        const double nearer = std::min(distance(c, sa), distance(c, sb));
+        const double nearer = std::min(colourDistance(c, sa), colourDistance(c, sb));
         // Sides alike: a line of any hue on one surrounding.
-        const bool alike = 4 * distance(sa, sb) < nearer;
+        const bool alike = 4 * colourDistance(sa, sb) < nearer;
         if ((!alike && std::max(dark, light) < 0.5 * o.pixelContrast) || nearer < o.pixelContrast)
             return;
         const double away = asBlend(c, sa, sb).residual;
@@ -131,7 +125,7 @@ std::vector<std::vector<int>> ridgeSets(const cv::Mat& bgr, const Ridges& r,
         if (!r.kind[start] || seen[start]) continue;
         sets.push_back(flood8(static_cast<int>(start), W, H, seen, [&](int p, int q) {
             return r.kind[static_cast<size_t>(q)] == r.kind[static_cast<size_t>(p)] &&
-                   distance(colour[p], colour[q]) < o.joinDistance;
+                   colourDistance(colour[p], colour[q]) < o.joinDistance;
         }));
     }
     return sets;
@@ -244,7 +238,7 @@ double sideDistance(const Ridges& r, const std::vector<int>& piece, const Colour
     for (const int p : piece) {
         const size_t q = static_cast<size_t>(p);
         if (!r.kind[q]) continue;
-        sum += std::min(distance(r.sides[q][0], ink), distance(r.sides[q][1], ink));
+        sum += std::min(colourDistance(r.sides[q][0], ink), colourDistance(r.sides[q][1], ink));
         ++n;
     }
     return n > 0 ? sum / double(n) : 0;
@@ -256,27 +250,12 @@ double sideDistance(const Ridges& r, const std::vector<int>& piece, const Colour
 // inkMask.
 void labelPiece(const cv::Mat& bgr, const std::vector<int>& piece, const Colour& ink, int label,
                 std::vector<int>& labels, std::vector<uint8_t>& inkMask) {
-    const int W = bgr.cols, H = bgr.rows;
-    const Colour* colour = bgr.ptr<Colour>(0);
     std::vector<int> own;  // the piece less what earlier pieces took
     for (const int p : piece)
         if (!inkMask[static_cast<size_t>(p)]) own.push_back(p);
-    for (const int p : own) labels[static_cast<size_t>(p)] = label;
-    std::vector<int> between;
-    for (const int p : own) {
-        const int x = p % W, y = p / W;
-        if (y + 1 >= H) continue;
-        for (const int dx : {-1, 1}) {
-            if (x + dx < 0 || x + dx >= W) continue;
-            const int diag = p + W + dx, side = p + dx, below = p + W;
-            if (labels[diag] != label || labels[side] == label || labels[below] == label ||
-                inkMask[static_cast<size_t>(side)] || inkMask[static_cast<size_t>(below)])
-                continue;
-            between.push_back(distance(colour[side], ink) <= distance(colour[below], ink) ? side
-                                                                                      : below);
-            labels[static_cast<size_t>(between.back())] = label;
-        }
-    }
+    const std::vector<int> between = labelFourConnected(
+        bgr, own, label, {double(ink[0]), double(ink[1]), double(ink[2])}, labels,
+        [&](int p) { return inkMask[static_cast<size_t>(p)] != 0; });
     for (const int p : own) inkMask[static_cast<size_t>(p)] = 1;
     for (const int p : between) inkMask[static_cast<size_t>(p)] = 1;
 }

@@ -13,21 +13,6 @@ namespace gm {
 
 namespace {
 
-double distance(const cv::Vec3b& a, const cv::Vec3b& b) {
-    double d = 0;
-    for (int k = 0; k < 3; ++k) {
-        const double e = static_cast<double>(a[k]) - b[k];
-        d += e * e;
-    }
-    return std::sqrt(d);
-}
-
-double distanceTo(const cv::Vec3b& c, const double* mean) {
-    double d = 0;
-    for (int k = 0; k < 3; ++k) d += (c[k] - mean[k]) * (c[k] - mean[k]);
-    return std::sqrt(d);
-}
-
 // Per pixel: 1 on a ridge, with the mean of the side pixels that made it one in `sides`.
 struct Ridges {
     std::vector<uint8_t> on;
@@ -42,8 +27,9 @@ bool ridgeAt(const cv::Mat& bgr, int x, int y, const ThinStructureOptions& o,
     const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
     double best = 0;
     forEachSidePair(bgr, x, y, o.maxSpan, [&](const cv::Vec3b& sa, const cv::Vec3b& sb) {
-        const double away = std::min(distance(c, sa), distance(c, sb));
-        if (away < o.pixelContrast || 4 * distance(sa, sb) >= away || away <= best) return;
+        const double away = std::min(colourDistance(c, sa), colourDistance(c, sb));
+        if (away < o.pixelContrast || 4 * colourDistance(sa, sb) >= away || away <= best)
+            return;
         best = away;
         for (int k = 0; k < 3; ++k) side[k] = 0.5f * (sa[k] + sb[k]);
     });
@@ -111,28 +97,6 @@ std::vector<RidgeSet> ridgeSets(const cv::Mat& bgr, const Ridges& r) {
         sets.push_back(std::move(set));
     }
     return sets;
-}
-
-// Gives `label` to the set's pixels and, where two of them touch only diagonally, to the one of
-// the two pixels between them that is closer to the set's mean colour.
-void labelFourConnected(const cv::Mat& bgr, const RidgeSet& set, int label,
-                        std::vector<int>& labels) {
-    const int W = bgr.cols, H = bgr.rows;
-    for (const int p : set.pixels) labels[static_cast<size_t>(p)] = label;
-    const cv::Vec3b* colour = bgr.ptr<cv::Vec3b>(0);
-    for (const int p : set.pixels) {
-        const int x = p % W, y = p / W;
-        if (y + 1 >= H) continue;
-        for (const int dx : {-1, 1}) {
-            if (x + dx < 0 || x + dx >= W) continue;
-            const int diag = p + W + dx, side = p + dx, below = p + W;
-            if (labels[diag] != label || labels[side] == label || labels[below] == label)
-                continue;
-            const bool sideCloser =
-                distanceTo(colour[side], set.mean) <= distanceTo(colour[below], set.mean);
-            labels[sideCloser ? side : below] = label;
-        }
-    }
 }
 
 // Whether the pixels enclose others: some pixel of its bounding box's complement
@@ -241,7 +205,8 @@ int liftThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int count,
         if (d <= options.contrast * options.contrast ||
             set.sideSpread > options.maxSideSpread * std::sqrt(d))
             continue;
-        labelFourConnected(bgr, set, count++, labels);
+        labelFourConnected(bgr, set.pixels, count++, {set.mean[0], set.mean[1], set.mean[2]},
+                           labels, [](int) { return false; });
     }
     return count;
 }
