@@ -130,6 +130,43 @@ TEST_CASE("SHAP counts beyond the payload are refused before allocating", "[malf
                Catch::Contains("mesh that does not exist"));
 }
 
+TEST_CASE("compact .gmb keeps shapes beyond the quantized range in float64", "[roundtrip][flat]") {
+    // A lossless file may hold any finite point; 2^60 px lies far beyond what 1/256 px steps
+    // in 64 bits can reach, so the compact writer keeps that SHAP section exact instead.
+    Document doc = makeFlatDocument();
+    doc.shapes[0].subpaths[0][1].x = std::ldexp(1.0, 60);
+    doc.shapes[0].subpaths[0][2].y = -std::ldexp(1.0, 60);
+    const Document back = decodeGmb(encodeGmb(doc, true), ReadLimits{}, "t.gmb");
+    CHECK(back.shapes == doc.shapes);
+    // A file the fuzzer found: a lossless shape point beyond 2^63 / 256 px, whose deltas the
+    // compact grid cannot hold.
+    const std::string name = "shape-far-beyond-quantized-range.gmb";
+    const Document fuzzed = decodeGmb(gmbtest::readFile(kDir + name), ReadLimits{}, name);
+    CHECK(decodeGmb(encodeGmb(fuzzed, true), ReadLimits{}, "t.gmb").shapes == fuzzed.shapes);
+}
+
+TEST_CASE("a quantized SHAP delta that would overflow is refused", "[malformed][flat]") {
+    auto svarint = [](std::string& p, int64_t v) {
+        uint64_t z = (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63);
+        for (; z >= 0x80; z >>= 7) p += static_cast<char>((z & 0x7f) | 0x80);
+        p += static_cast<char>(z);
+    };
+    std::string p;
+    p += '\x01';  // one shape
+    p += '\x01';  // quantized
+    p += '\x00';  // layer 0
+    p += std::string(8, '\x7f');  // colour and opacity
+    p += '\x01';  // one subpath
+    p += '\x01';  // one segment: three points
+    svarint(p, 1000);
+    svarint(p, 0);
+    svarint(p, INT64_MAX);  // x + INT64_MAX overflows int64
+    svarint(p, 0);
+    svarint(p, 0);
+    svarint(p, 0);
+    CHECK_THAT(decodeError(withShapePayload(p)), Catch::Contains("shape point out of range"));
+}
+
 TEST_CASE("write the golden flat-shape files", "[.generate-flat]") {
     const Document doc = makeFlatDocument();
     std::ofstream(kDir + "golden-1.5-flat.gmb", std::ios::binary) << encodeGmb(doc, false);

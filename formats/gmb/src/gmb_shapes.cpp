@@ -9,9 +9,21 @@ namespace {
 
 constexpr double kPointScale = double(1 << kShapePointBits);
 
+// Whether every point lies on the quantized grid's range, so that it and the deltas between
+// points fit in 64 bits; a document that strays beyond is written in float64 instead.
+bool quantizable(const std::vector<FlatShape>& shapes) {
+    const double limit = double(kMaxQuantized) / kPointScale;
+    for (const FlatShape& s : shapes)
+        for (const std::vector<Vec2>& path : s.subpaths)
+            for (const Vec2& p : path)
+                if (!(std::fabs(p.x) <= limit && std::fabs(p.y) <= limit)) return false;
+    return true;
+}
+
 }  // namespace
 
 std::string encodeShapes(const std::vector<FlatShape>& shapes, bool quantize) {
+    quantize = quantize && quantizable(shapes);
     ByteWriter w;
     w.varint(shapes.size());
     w.u8(static_cast<uint8_t>(quantize ? ShapeEncoding::Quantized : ShapeEncoding::Float64));
@@ -82,8 +94,14 @@ std::vector<FlatShape> decodeShapes(ByteReader& r, uint64_t maxShapes,
                     p.y = r.f64();
                     continue;
                 }
-                x += r.svarint();
-                y += r.svarint();
+                // Deltas between in-range points stay within twice the range; checking them
+                // first keeps the sums from overflowing.
+                const int64_t dx = r.svarint(), dy = r.svarint();
+                if (dx > 2 * kMaxQuantized || dx < -2 * kMaxQuantized ||
+                    dy > 2 * kMaxQuantized || dy < -2 * kMaxQuantized)
+                    r.fail("shape point out of range");
+                x += dx;
+                y += dy;
                 if (x > kMaxQuantized || x < -kMaxQuantized || y > kMaxQuantized ||
                     y < -kMaxQuantized)
                     r.fail("shape point out of range");

@@ -17,7 +17,8 @@ enum class ShapeEncoding : uint8_t { Float64 = 0, Quantized = 1 };
 // Quantized points are multiples of 2^-kShapePointBits px.
 constexpr int kShapePointBits = 8;
 
-// The payload: float64 (lossless) or, when `quantize`, points to 1/256 px and colours in 16 bits.
+// The payload: float64 (lossless) or, when `quantize` and every point is within the quantized
+// range, points to 1/256 px and colours in 16 bits.
 std::string encodeShapes(const std::vector<FlatShape>& shapes, bool quantize);
 
 // Reads a SHAP payload of at most `maxShapes` shapes, checking every count against the bytes
