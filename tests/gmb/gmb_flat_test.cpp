@@ -167,6 +167,26 @@ TEST_CASE("a quantized SHAP delta that would overflow is refused", "[malformed][
     CHECK_THAT(decodeError(withShapePayload(p)), Catch::Contains("shape point out of range"));
 }
 
+TEST_CASE("the flat-shape count has its own limit, not the mesh count's", "[malformed][flat]") {
+    // Two meshes and five shapes: within a limit of two meshes, refused at four shapes.
+    Document doc = makeFlatDocument();
+    for (int k = 0; k < 3; ++k) doc.shapes.push_back(doc.shapes.back());
+    ReadLimits limits;
+    limits.maxMeshes = 2;
+    for (bool compact : {false, true}) {
+        const std::string bytes = encodeGmb(doc, compact);
+        CHECK(decodeGmb(bytes, limits, "t.gmb").shapes.size() == 5);
+        ReadLimits fewShapes = limits;
+        fewShapes.maxShapes = 4;
+        try {
+            decodeGmb(bytes, fewShapes, "t.gmb");
+            FAIL("five shapes read under a limit of four");
+        } catch (const Error& e) {
+            CHECK_THAT(e.what(), Catch::Contains("5 shapes: must be 1 to 4"));
+        }
+    }
+}
+
 TEST_CASE("write the golden flat-shape files", "[.generate-flat]") {
     const Document doc = makeFlatDocument();
     std::ofstream(kDir + "golden-1.5-flat.gmb", std::ios::binary) << encodeGmb(doc, false);

@@ -72,6 +72,24 @@ TEST_CASE("flat shapes are compact paths between the meshes and read back", "[sv
     CHECK(shapePaths(encodeSvg(back, options)) == shapePaths(svg));
 }
 
+TEST_CASE("an SVG's flat shapes are counted against ReadLimits::maxShapes", "[svg][flat]") {
+    // The same limits let the document through the .gmb reader as well: more shapes than
+    // meshes is no reason to refuse it.
+    Document doc = makeFlatDocument();
+    for (int k = 0; k < 3; ++k) doc.shapes.push_back(doc.shapes.back());
+    const std::string svg = encodeSvg(doc, WriteOptions{});
+    ReadLimits limits;
+    limits.maxMeshes = 2;
+    CHECK(decodeSvg(svg, limits, "t.svg").shapes.size() == 5);
+    limits.maxShapes = 4;
+    try {
+        decodeSvg(svg, limits, "t.svg");
+        FAIL("five shapes read under a limit of four");
+    } catch (const Error& e) {
+        CHECK_THAT(e.what(), Catch::Contains("5 flat shapes, over the limit of 4"));
+    }
+}
+
 TEST_CASE("the SVG path reader takes absolute, relative, H/V and implicit commands",
           "[svg][flat]") {
     const std::string svg =

@@ -959,7 +959,7 @@ Document Decoder::run() {
     if (end.tag == "SHAP") {
         Payload p;
         open(end, limits_.maxFileBytes, p);
-        doc.shapes = decodeShapes(p.reader, limits_.maxMeshes,
+        doc.shapes = decodeShapes(p.reader, limits_.maxShapes,
                                   [this](ByteReader& r, uint64_t bytes) { charge(r, bytes); });
         finish(p, end);
         end = next({"END "});

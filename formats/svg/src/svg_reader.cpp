@@ -758,6 +758,12 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
             if (index.painted[k] == use.shape) ++usesBefore[k + 1];
     }
     for (size_t k = 0; k < index.painted.size(); ++k) usesBefore[k + 1] += usesBefore[k];
+    const auto outlined = std::count_if(index.flat.begin(), index.flat.end(),
+                                        [](const auto& f) { return f.first->Attribute("d"); });
+    if (static_cast<uint64_t>(outlined) > limits.maxShapes)
+        throw Error("SVG has " + std::to_string(outlined) + " flat shapes, over the limit of " +
+                        std::to_string(limits.maxShapes),
+                    fileName);
     size_t points = 0;
     for (const auto& [el, painted] : index.flat)
         if (el->Attribute("d"))

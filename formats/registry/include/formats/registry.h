@@ -19,6 +19,7 @@ struct ReadLimits {
     uint64_t maxGridSide = uint64_t(1) << 16;     // columns or rows of one mesh
     uint64_t maxSlitsPerMesh = uint64_t(1) << 16;
     uint64_t maxMeshes = uint64_t(1) << 20;
+    uint64_t maxShapes = uint64_t(1) << 20;       // flat shapes
     uint64_t maxCanvasSide = uint64_t(1) << 20;   // pixels
     // Patches of all meshes together, counted before they are built: a small file can name
     // many (an SVG painting one mesh with thousands of shapes, a compact .gmb of flat patches).
