@@ -5,7 +5,9 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <set>
 
 #include "meshcore/bicubic_colors.h"
 #include "meshcore/evaluate.h"
@@ -120,6 +122,62 @@ void setCopyColors(GradientMesh& mesh, const Eigen::MatrixXd& c) {
         for (Node& node : s.below) take(node);
 }
 
+// Node-copy positions, in the order of copyColors.
+std::vector<Vec2> copyPositions(const GradientMesh& mesh) {
+    std::vector<Vec2> out;
+    for (const Node& node : mesh.nodes) out.push_back(node.pos);
+    for (const Slit& s : mesh.slits)
+        for (const Node& node : s.below) out.push_back(node.pos);
+    return out;
+}
+
+// Inkscape's (cairo's) mesh rasteriser takes a pixel's colour from a point that may lie anywhere
+// in the pixel, not at its centre, so a colour that changes within a pixel is drawn differently
+// from our render by about that change. A thin row of patches along a region's outline can pack
+// a steep colour step into a sliver; pulling the ends of each edge shorter than a pixel toward
+// one colour (by `pull` times 1 − its length) spreads the step over wider patches.
+struct ShortEdge {
+    int a = 0, b = 0;  // node copies
+    double weight = 0;
+};
+
+std::vector<ShortEdge> subPixelEdges(const GradientMesh& mesh, double pull) {
+    std::vector<ShortEdge> out;
+    if (pull <= 0) return out;
+    const std::vector<Vec2> pos = copyPositions(mesh);
+    std::set<std::pair<int, int>> seen;
+    for (int j = 0; j < mesh.rows(); ++j)
+        for (int i = 0; i < mesh.columns(); ++i) {
+            const PatchColorRule r = bicubicPatchRule(mesh, i, j);
+            const int sides[4][2] = {{r.copy[0][0], r.copy[1][0]}, {r.copy[0][1], r.copy[1][1]},
+                                     {r.copy[0][0], r.copy[0][1]}, {r.copy[1][0], r.copy[1][1]}};
+            for (const auto& side : sides) {
+                const int a = std::min(side[0], side[1]), b = std::max(side[0], side[1]);
+                if (a == b || !seen.insert({a, b}).second) continue;
+                const double length = norm(pos[static_cast<size_t>(a)] - pos[static_cast<size_t>(b)]);
+                if (length < 1.0) out.push_back({a, b, pull * (1.0 - length)});
+            }
+        }
+    return out;
+}
+
+// The normal-equation terms of the edges' pulls: weight · (c_a − c_b)² each.
+Eigen::SparseMatrix<double> edgePulls(const std::vector<ShortEdge>& edges, Eigen::Index n,
+                                      double pixelWeight) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(edges.size() * 4);
+    for (const ShortEdge& e : edges) {
+        const double w = e.weight * pixelWeight;
+        entries.emplace_back(e.a, e.a, w);
+        entries.emplace_back(e.b, e.b, w);
+        entries.emplace_back(e.a, e.b, -w);
+        entries.emplace_back(e.b, e.a, -w);
+    }
+    Eigen::SparseMatrix<double> S(n, n);
+    S.setFromTriplets(entries.begin(), entries.end());
+    return S;
+}
+
 std::vector<PatchColorRule> rulesOf(const GradientMesh& mesh,
                                     const std::vector<PatchNormals>& normals) {
     std::vector<PatchColorRule> rules;
@@ -130,8 +188,12 @@ std::vector<PatchColorRule> rulesOf(const GradientMesh& mesh,
 
 // The fit's true cost at colours c (rules taken at c), up to the constant Σ target².
 double cost(const std::vector<PatchNormals>& normals, const std::vector<PatchColorRule>& rules,
-            const Eigen::MatrixXd& c, const Eigen::MatrixXd& c0, const Eigen::Vector3d& lambda) {
+            const Eigen::MatrixXd& c, const Eigen::MatrixXd& c0, const Eigen::Vector3d& lambda,
+            const std::vector<ShortEdge>& edges, const Eigen::Vector3d& pixelWeight) {
     double f = 0;
+    for (const ShortEdge& e : edges)
+        for (int ch = 0; ch < 3; ++ch)
+            f += e.weight * pixelWeight(ch) * std::pow(c(e.a, ch) - c(e.b, ch), 2);
     for (size_t p = 0; p < normals.size(); ++p)
         for (int ch = 0; ch < 3; ++ch) {
             const LocalMap m = localMap(rules[p], ch);
@@ -145,12 +207,14 @@ double cost(const std::vector<PatchNormals>& normals, const std::vector<PatchCol
 }
 
 // One Gauss–Newton step per channel at the rules' branches: the least-squares colours of the
-// linearised problem, or false when a solve fails.
+// linearised problem with the edges' pulls, or false when a solve fails. `pixelWeight` returns
+// the mean diagonal of the pixels' normal equations per channel, the unit of every pull.
 // `held` (optional, per copy and channel): colours held at their value in c0 by a pull far
 // stronger than any pixel's.
 bool solveLinearised(const std::vector<PatchNormals>& normals,
                      const std::vector<PatchColorRule>& rules, const Eigen::MatrixXd& c0,
                      double regularization, Eigen::MatrixXd& c, Eigen::Vector3d& lambda,
+                     const std::vector<ShortEdge>& edges, Eigen::Vector3d& pixelWeight,
                      const Eigen::MatrixXd* held = nullptr) {
     const Eigen::Index n = c0.rows();
     for (int ch = 0; ch < 3; ++ch) {
@@ -177,6 +241,8 @@ bool solveLinearised(const std::vector<PatchNormals>& normals,
                 ++used;
             }
         lambda(ch) = std::max(regularization, 1e-12) * (used > 0 ? sum / used : 1.0);
+        pixelWeight(ch) = used > 0 ? sum / used : 1.0;
+        if (!edges.empty()) A += edgePulls(edges, n, pixelWeight(ch));
         Eigen::VectorXd pull = Eigen::VectorXd::Constant(n, lambda(ch));
         if (held) pull += (1e6 * (sum / std::max(used, 1))) * held->col(ch);
         Eigen::SparseMatrix<double> P(n, n);
@@ -197,16 +263,17 @@ bool solveLinearised(const std::vector<PatchNormals>& normals,
 // the others refitted around them (one linearised solve at the rules' branches), then
 // clamped once more.
 Eigen::MatrixXd keepInRange(const std::vector<PatchNormals>& normals, GradientMesh& mesh,
-                            const Eigen::MatrixXd& colors, double regularization) {
+                            const Eigen::MatrixXd& colors, double regularization,
+                            const std::vector<ShortEdge>& edges) {
     const Eigen::MatrixXd clamped = colors.cwiseMax(0.0).cwiseMin(1.0);
     const Eigen::MatrixXd held = (clamped - colors).cwiseAbs().unaryExpr(
         [](double d) { return d > 0 ? 1.0 : 0.0; });
     if (held.sum() == 0) return colors;
     setCopyColors(mesh, clamped);
     Eigen::MatrixXd c = clamped;
-    Eigen::Vector3d unused;
+    Eigen::Vector3d unused, unusedWeight;
     if (!solveLinearised(normals, rulesOf(mesh, normals), clamped, regularization, c, unused,
-                         &held))
+                         edges, unusedWeight, &held))
         return clamped;
     return c.cwiseMax(0.0).cwiseMin(1.0);
 }
@@ -215,22 +282,24 @@ Eigen::MatrixXd keepInRange(const std::vector<PatchNormals>& normals, GradientMe
 
 void fitBicubicColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
                       const std::vector<PixelSample>& samples, int meshIndex,
-                      double regularization) {
+                      double regularization, double subPixelEdgePull) {
     const std::vector<PatchNormals> normals =
         patchNormals(mesh, image, region, samples, meshIndex);
     if (normals.empty()) return;
     const Eigen::MatrixXd c0 = copyColors(mesh);
     std::vector<PatchColorRule> rules = rulesOf(mesh, normals);
     Eigen::MatrixXd c = c0;
-    Eigen::Vector3d lambda;
-    if (!solveLinearised(normals, rules, c0, regularization, c, lambda)) return;
-    double best = cost(normals, rules, c0, c0, lambda);
+    Eigen::Vector3d lambda, pixelWeight;
+    const std::vector<ShortEdge> edges = subPixelEdges(mesh, subPixelEdgePull);
+    if (!solveLinearised(normals, rules, c0, regularization, c, lambda, edges, pixelWeight))
+        return;
+    double best = cost(normals, rules, c0, c0, lambda, edges, pixelWeight);
     Eigen::MatrixXd bestColors = c0;
     constexpr int kRounds = 4;
     for (int round = 0; round < kRounds; ++round) {
         setCopyColors(mesh, c);
         rules = rulesOf(mesh, normals);
-        const double f = cost(normals, rules, c, c0, lambda);
+        const double f = cost(normals, rules, c, c0, lambda, edges, pixelWeight);
         if (f < best) {
             best = f;
             bestColors = c;
@@ -239,9 +308,11 @@ void fitBicubicColors(GradientMesh& mesh, const RgbaImage& image, const Region& 
         }
         if (round + 1 == kRounds) break;
         Eigen::Vector3d unused;
-        if (!solveLinearised(normals, rules, c0, regularization, c, unused)) break;
+        Eigen::Vector3d unusedWeight;
+        if (!solveLinearised(normals, rules, c0, regularization, c, unused, edges, unusedWeight))
+            break;
     }
-    setCopyColors(mesh, keepInRange(normals, mesh, bestColors, regularization));
+    setCopyColors(mesh, keepInRange(normals, mesh, bestColors, regularization, edges));
 }
 
 }  // namespace gm

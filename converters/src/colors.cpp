@@ -423,10 +423,13 @@ bool solveNormalEquations(const NormalEquations& eq, const Eigen::MatrixXd& from
 // The least-squares colours of `mesh` (geometry fixed) given the render samples; `mesh` holds
 // the sampled solution on entry and the fitted one on return (kept when the solve fails).
 void fitColors(GradientMesh& mesh, const RgbaImage& image, const Region& region,
-               const std::vector<PixelSample>& samples, int meshIndex, double regularization,
-               ColorMode mode, const GradientMesh* guess = nullptr) {
+               const std::vector<PixelSample>& samples, int meshIndex, const ColorOptions& options,
+               const GradientMesh* guess = nullptr) {
+    const double regularization = options.regularization;
+    const ColorMode mode = options.mode;
     if (mesh.colorModel == ColorModel::Bicubic) {
-        fitBicubicColors(mesh, image, region, samples, meshIndex, regularization);
+        fitBicubicColors(mesh, image, region, samples, meshIndex, regularization,
+                         options.subPixelEdgePull);
         return;
     }
     const SlotLayout L(mesh);
@@ -558,7 +561,7 @@ ColorResult computeColors(const GradientMesh& geometry, const RgbaImage& image,
     // Colours do not move the outline, so one render of the geometry serves fit and measure.
     RenderResult r = renderForSamples(out.mesh, image, options);
     if (options.mode != ColorMode::Sampled)
-        fitColors(out.mesh, image, region, r.samples, 0, options.regularization, options.mode);
+        fitColors(out.mesh, image, region, r.samples, 0, options);
     measure(out.mesh, image, region, r.samples, options.keepPixels, out);
     if (options.keepPixels) out.samples = std::move(r.samples);
     return out;
@@ -573,7 +576,7 @@ GradientMesh fitColorsToSamples(const GradientMesh& geometry, const RgbaImage& i
                     std::to_string(region.mask.size()) + " pixels");
     GradientMesh mesh = sampledStart(geometry, image, region, options.mode);
     if (options.mode != ColorMode::Sampled)
-        fitColors(mesh, image, region, samples, meshIndex, options.regularization, options.mode,
+        fitColors(mesh, image, region, samples, meshIndex, options,
                   options.warmStart ? &geometry : nullptr);
     return mesh;
 }

@@ -285,6 +285,7 @@ GradientMesh convertRegion(const RgbaImage& image, const Region& region,
     refineOptions.maxPatches = options.maxPatches;
     refineOptions.color.mode = options.colors;
     refineOptions.color.threads = options.threads;
+    refineOptions.color.subPixelEdgePull = options.subPixelEdgePull;
     RefineResult refined =
         refineMesh(*geometry->grid, geometry->gridOptions, image, region, refineOptions);
     report.seconds.mesh += since(t0);

@@ -470,6 +470,7 @@ public:
         workers_ = std::max(1, std::min<int>(options.threads > 0 ? options.threads : hw,
                                              static_cast<int>(regions.size())));
         convert_ = options.convert;
+        convert_.subPixelEdgePull = options.subPixelEdgePull;
         convert_.progress = nullptr;  // regions done are counted here, not their stages
         if (workers_ > 1) convert_.threads = 1;
         drawnAt_.assign(static_cast<size_t>(image.width) * image.height, -1);

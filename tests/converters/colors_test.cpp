@@ -8,6 +8,7 @@
 #include "meshcore/error.h"
 #include "meshcore/evaluate.h"
 #include "meshcore/render.h"
+#include "fit_inputs.h"
 #include "synthetic_region.h"
 
 using namespace gm;
@@ -381,15 +382,8 @@ TEST_CASE("colours fitted to a document's samples use only the pixels where the 
             p[0] = p[1] = p[2] = v;
             p[3] = 1;
         }
-    RenderOptions ro;
-    ro.wantSamples = true;
-    ro.antialias = false;
-    const std::vector<PixelSample> samples = renderDocument(doc, ro).samples;
-    Region all;
-    all.width = W;
-    all.height = H;
-    all.mask.assign(static_cast<size_t>(W) * H, 1);
-    all.pixelCount = W * H;
+    const std::vector<PixelSample> samples = fitSamples(doc);
+    const Region all = wholeCanvas(W, H);
     Region left = all;
     for (int y = 0; y < H; ++y)
         for (int x = W / 2; x < W; ++x) left.mask[static_cast<size_t>(y) * W + x] = 0;

@@ -44,6 +44,10 @@ struct ColorOptions {
     // toward the sampled one.
     bool warmStart = false;
     bool keepPixels = false;  // fill ColorResult::samples and pixelError
+    // FitBicubic: the weight (relative to the mean pixel weight of a colour) pulling the two
+    // ends of a patch edge of length L < 1 px toward one colour, times 1 − L (bicubic_fit.h).
+    // 0: off.
+    double subPixelEdgePull = 0;
 };
 
 struct FitError {

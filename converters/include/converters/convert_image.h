@@ -27,6 +27,7 @@ struct ConvertOptions {
     double maxError = 3.0;        // target E per region, 0–255 units
     int maxPatches = 400;         // patch budget per region
     ColorMode colors = ColorMode::FitBicubic;
+    double subPixelEdgePull = 0;  // ColorOptions::subPixelEdgePull of the region's fits
     int minArea = 64;             // pixels: smaller components are dropped
     int minHole = 16;             // pixels: smaller holes are filled
     double sampleFraction = 0.03; // triangulation samples per region pixel

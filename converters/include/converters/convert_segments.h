@@ -32,6 +32,12 @@ struct SegmentConvertOptions {
     double pixelsPerPatch = 8;
     int minRegionPatches = 36;
     int overlap = 1;             // pixels each region's outline reaches under its neighbours
+    // convert.subPixelEdgePull for every region (ColorOptions::subPixelEdgePull). Region
+    // meshes meet along outlines where the image's colour turns within a pixel or two, and a
+    // row of sub-pixel patches there draws that turn wherever Inkscape samples it. An object's
+    // conversion leaves it off: its outline is drawn by the fill path's anti-aliasing, and the
+    // pull there costs patches that refinement adds back.
+    double subPixelEdgePull = 0.5;
     // A region of at least neckMinPixels whose mesh misses --max-error by more than
     // neckErrorFactor (or that fails) is cut at its narrowest neck (neck.h) and each side
     // converted on its own (the sides share the region's budget by their pixels), recursively
