@@ -3,12 +3,20 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "formats/atomic_file.h"
 #include "formats/input_file.h"
+#include "formats/temp_registry.h"
 #include "meshcore/error.h"
 #include "meshcore/mesh_lines.h"
 #include "meshcore/render.h"
@@ -159,21 +167,80 @@ RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
     return img;
 }
 
-std::string encodeImage(const RgbaImage& image, const std::string& path) {
-    const std::string ext = lowerExtension(path);
-    const bool noAlpha = ext == ".jpg" || ext == ".jpeg";
-    const bool linear = linearExtension(path);
-    const int nch = noAlpha ? 3 : 4;
+namespace {
+
+// Encodes through an in-memory proxy.
+std::string encodeInMemory(const OIIO::ImageSpec& spec, const std::vector<float>& data,
+                           const std::string& path) {
     auto file = OIIO::ImageOutput::create(path);
     if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
-    // Encoded in memory: the file itself is written by our own checked I/O (atomic_file.h).
     std::vector<unsigned char> encoded;
     OIIO::Filesystem::IOVecOutput memory(encoded);
     if (!file->supports("ioproxy") || !file->set_ioproxy(&memory))
         throw Error("the image writer cannot encode in memory", path);
+    if (!file->open(path, spec)) throw Error("cannot write image: " + file->geterror(), path);
+    if (!file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
+        throw Error("cannot write image: " + file->geterror(), path);
+    return std::string(encoded.begin(), encoded.end());
+}
+
+// A private directory under $TMPDIR (or /tmp) holding one file, both removed on destruction and
+// registered for removal on a signal.
+class ScratchFile {
+public:
+    explicit ScratchFile(const std::string& extension) {
+        const char* tmp = std::getenv("TMPDIR");
+        std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/gradmesh-XXXXXX";
+        if (!::mkdtemp(pattern.data()))
+            throw Error(std::string("cannot make a temporary directory: ") +
+                        std::strerror(errno));
+        dir_ = pattern;
+        dirSlot_ = registerTemporary(dir_);
+        path_ = dir_ + "/image" + extension;
+        fileSlot_ = registerTemporary(path_);
+    }
+    ~ScratchFile() {
+        ::unlink(path_.c_str());
+        unregisterTemporary(fileSlot_);
+        ::rmdir(dir_.c_str());
+        unregisterTemporary(dirSlot_);
+    }
+    ScratchFile(const ScratchFile&) = delete;
+    ScratchFile& operator=(const ScratchFile&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string dir_, path_;
+    int dirSlot_ = -1, fileSlot_ = -1;
+};
+
+// OpenImageIO's TIFF writer, given an in-memory proxy, leaves the file's directory cut short
+// (no reader opens the result), so TIFF is written to a private temporary file and read back.
+std::string encodeThroughFile(const OIIO::ImageSpec& spec, const std::vector<float>& data,
+                              const std::string& extension, const std::string& path) {
+    ScratchFile scratch(extension);
+    auto file = OIIO::ImageOutput::create(scratch.path());
+    if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
+    if (!file->open(scratch.path(), spec) ||
+        !file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
+        throw Error("cannot write image: " + file->geterror(), path);
+    std::ifstream in(scratch.path(), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw Error("cannot read back the encoded image", path);
+    return bytes;
+}
+
+}  // namespace
+
+std::string encodeImage(const RgbaImage& image, const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    const bool noAlpha = ext == ".jpg" || ext == ".jpeg";
+    const bool linear = linearExtension(path);
+    const bool tiff = ext == ".tif" || ext == ".tiff";
+    const int nch = noAlpha ? 3 : 4;
     OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
     if (linear) type = OIIO::TypeDesc::HALF;
-    if (ext == ".tif" || ext == ".tiff") type = OIIO::TypeDesc::UINT16;
+    if (tiff) type = OIIO::TypeDesc::UINT16;
     OIIO::ImageSpec spec(image.width, image.height, nch, type);
     if (!noAlpha) spec.alpha_channel = 3;
     if (!linear) {
@@ -191,10 +258,9 @@ std::string encodeImage(const RgbaImage& image, const std::string& path) {
         }
         if (!noAlpha) data[p * nch + 3] = std::clamp(s[3], 0.f, 1.f);
     }
-    if (!file->open(path, spec)) throw Error("cannot write image: " + file->geterror(), path);
-    if (!file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
-        throw Error("cannot write image: " + file->geterror(), path);
-    return std::string(encoded.begin(), encoded.end());
+    // Encoded in memory (or a private scratch file): the output itself is written by our own
+    // checked I/O (atomic_file.h).
+    return tiff ? encodeThroughFile(spec, data, ext, path) : encodeInMemory(spec, data, path);
 }
 
 void writeImage(const RgbaImage& image, const std::string& path) {
