@@ -67,30 +67,6 @@ std::string copyStandardInput(int fd, const std::string& spoolPath) {
 
 }  // namespace
 
-PrivateDir::PrivateDir() {
-    const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/gradmesh-XXXXXX";
-    if (!::mkdtemp(pattern.data()))
-        throw Error(std::string("cannot make a temporary directory: ") + std::strerror(errno),
-                    pattern.substr(0, pattern.size() - 16));
-    path_ = pattern;
-    slot_ = registerTemporary(path_);
-}
-
-PrivateDir::~PrivateDir() {
-    for (const auto& [file, slot] : files_) {
-        ::unlink(file.c_str());
-        unregisterTemporary(slot);
-    }
-    ::rmdir(path_.c_str());
-    unregisterTemporary(slot_);
-}
-
-std::string PrivateDir::file(const std::string& name) {
-    const std::string path = path_ + "/" + name;
-    files_.emplace_back(path, registerTemporary(path));
-    return path;
-}
 
 std::string spoolStandardInput(PrivateDir& dir, const FormatRegistry& registry) {
     if (::isatty(0) == 1)

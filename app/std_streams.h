@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "formats/private_dir.h"
 #include "formats/registry.h"
 #include "meshcore/error.h"
 
@@ -20,24 +21,6 @@ extern const char* const kStdinName;   // "<stdin>"
 extern const char* const kStdoutName;  // "<stdout>"
 
 inline bool isStdStream(const std::string& path) { return path == "-"; }
-
-// A private directory (mode 0700) under $TMPDIR, else /tmp, removed with its files when
-// destroyed. Throws gm::Error when it cannot be made.
-class PrivateDir {
-public:
-    PrivateDir();
-    ~PrivateDir();
-    PrivateDir(const PrivateDir&) = delete;
-    PrivateDir& operator=(const PrivateDir&) = delete;
-
-    // The path of the file `name` in the directory (made by its user), removed with it.
-    std::string file(const std::string& name);
-
-private:
-    std::string path_;
-    int slot_ = -1;
-    std::vector<std::pair<std::string, int>> files_;  // path, temp_registry slot
-};
 
 // Copies standard input into a file of `dir` whose extension says its content: a mesh file
 // `registry` sniffs (.gmb, SVG), PNG, JPEG, TIFF or OpenEXR. Returns its path. Throws gm::Error

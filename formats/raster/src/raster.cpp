@@ -3,20 +3,15 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 
 #include "formats/atomic_file.h"
 #include "formats/input_file.h"
-#include "formats/temp_registry.h"
+#include "formats/private_dir.h"
 #include "meshcore/error.h"
 #include "meshcore/mesh_lines.h"
 #include "meshcore/render.h"
@@ -184,47 +179,19 @@ std::string encodeInMemory(const OIIO::ImageSpec& spec, const std::vector<float>
     return std::string(encoded.begin(), encoded.end());
 }
 
-// A private directory under $TMPDIR (or /tmp) holding one file, both removed on destruction and
-// registered for removal on a signal.
-class ScratchFile {
-public:
-    explicit ScratchFile(const std::string& extension) {
-        const char* tmp = std::getenv("TMPDIR");
-        std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/gradmesh-XXXXXX";
-        if (!::mkdtemp(pattern.data()))
-            throw Error(std::string("cannot make a temporary directory: ") +
-                        std::strerror(errno));
-        dir_ = pattern;
-        dirSlot_ = registerTemporary(dir_);
-        path_ = dir_ + "/image" + extension;
-        fileSlot_ = registerTemporary(path_);
-    }
-    ~ScratchFile() {
-        ::unlink(path_.c_str());
-        unregisterTemporary(fileSlot_);
-        ::rmdir(dir_.c_str());
-        unregisterTemporary(dirSlot_);
-    }
-    ScratchFile(const ScratchFile&) = delete;
-    ScratchFile& operator=(const ScratchFile&) = delete;
-    const std::string& path() const { return path_; }
-
-private:
-    std::string dir_, path_;
-    int dirSlot_ = -1, fileSlot_ = -1;
-};
-
 // OpenImageIO's TIFF writer, given an in-memory proxy, leaves the file's directory cut short
-// (no reader opens the result), so TIFF is written to a private temporary file and read back.
+// (no reader opens the result), so TIFF is written to a file in a private directory and read
+// back.
 std::string encodeThroughFile(const OIIO::ImageSpec& spec, const std::vector<float>& data,
                               const std::string& extension, const std::string& path) {
-    ScratchFile scratch(extension);
-    auto file = OIIO::ImageOutput::create(scratch.path());
+    PrivateDir dir;
+    const std::string scratch = dir.file("image" + extension);
+    auto file = OIIO::ImageOutput::create(scratch);
     if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
-    if (!file->open(scratch.path(), spec) ||
-        !file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
+    if (!file->open(scratch, spec) || !file->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
+        !file->close())
         throw Error("cannot write image: " + file->geterror(), path);
-    std::ifstream in(scratch.path(), std::ios::binary);
+    std::ifstream in(scratch, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) throw Error("cannot read back the encoded image", path);
     return bytes;
