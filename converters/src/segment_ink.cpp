@@ -91,29 +91,6 @@ Ridges findRidges(const cv::Mat& bgr, const InkLineOptions& o) {
     return r;
 }
 
-// The pixels reached from `start` through 8-neighbours for which `joins(p, q)` holds, marking
-// them in `seen`.
-template <class Joins>
-std::vector<int> flood8(int start, int W, int H, std::vector<uint8_t>& seen, Joins joins) {
-    std::vector<int> out, stack{start};
-    seen[static_cast<size_t>(start)] = 1;
-    while (!stack.empty()) {
-        const int p = stack.back();
-        stack.pop_back();
-        out.push_back(p);
-        const int x = p % W, y = p / W;
-        for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); ++v)
-            for (int u = std::max(0, x - 1); u <= std::min(W - 1, x + 1); ++u) {
-                const int q = v * W + u;
-                if (!seen[static_cast<size_t>(q)] && joins(p, q)) {
-                    seen[static_cast<size_t>(q)] = 1;
-                    stack.push_back(q);
-                }
-            }
-    }
-    return out;
-}
-
 // The 8-connected sets of ridge pixels of one kind, neighbours joined when alike in colour.
 std::vector<std::vector<int>> ridgeSets(const cv::Mat& bgr, const Ridges& r,
                                         const InkLineOptions& o) {

@@ -1,9 +1,11 @@
 // What the full-size line finders (segment_thin.h, segment_ink.h) share: the pairs of pixels on
-// either side of a pixel, colour distances, and how a found line becomes a 4-connected label.
+// either side of a pixel, colour distances, 8-connected flood fills, and how a found line
+// becomes a 4-connected label.
 #pragma once
 
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -38,6 +40,29 @@ void forEachSidePair(const cv::Mat& bgr, int x, int y, int maxSpan, Visit visit)
                     continue;
                 visit(bgr.at<cv::Vec3b>(ya, xa), bgr.at<cv::Vec3b>(yb, xb));
             }
+}
+
+// The pixels reached from `start` through 8-neighbours for which `joins(p, q)` holds, marking
+// them in `seen`.
+template <class Joins>
+std::vector<int> flood8(int start, int W, int H, std::vector<uint8_t>& seen, Joins joins) {
+    std::vector<int> out, stack{start};
+    seen[static_cast<size_t>(start)] = 1;
+    while (!stack.empty()) {
+        const int p = stack.back();
+        stack.pop_back();
+        out.push_back(p);
+        const int x = p % W, y = p / W;
+        for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); ++v)
+            for (int u = std::max(0, x - 1); u <= std::min(W - 1, x + 1); ++u) {
+                const int q = v * W + u;
+                if (!seen[static_cast<size_t>(q)] && joins(p, q)) {
+                    seen[static_cast<size_t>(q)] = 1;
+                    stack.push_back(q);
+                }
+            }
+    }
+    return out;
 }
 
 // Gives `label` to `pixels` and, where two of them touch only diagonally, to the one of the two

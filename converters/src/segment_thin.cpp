@@ -65,25 +65,13 @@ std::vector<RidgeSet> ridgeSets(const cv::Mat& bgr, const Ridges& r) {
     for (size_t start = 0; start < r.on.size(); ++start) {
         if (!r.on[start] || seen[start]) continue;
         RidgeSet set;
-        std::vector<int> stack{static_cast<int>(start)};
-        seen[start] = 1;
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            set.pixels.push_back(p);
-            for (int k = 0; k < 3; ++k) set.side[k] += r.sides[static_cast<size_t>(p)][k];
-            const int x = p % W, y = p / W;
-            for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); ++v)
-                for (int u = std::max(0, x - 1); u <= std::min(W - 1, x + 1); ++u) {
-                    const size_t q = static_cast<size_t>(v) * W + u;
-                    if (r.on[q] && !seen[q]) {
-                        seen[q] = 1;
-                        stack.push_back(static_cast<int>(q));
-                    }
-                }
-        }
+        set.pixels = flood8(static_cast<int>(start), W, H, seen,
+                            [&](int, int q) { return r.on[static_cast<size_t>(q)] != 0; });
         for (const int p : set.pixels)
-            for (int k = 0; k < 3; ++k) set.mean[k] += colour[p][k];
+            for (int k = 0; k < 3; ++k) {
+                set.side[k] += r.sides[static_cast<size_t>(p)][k];
+                set.mean[k] += colour[p][k];
+            }
         for (int k = 0; k < 3; ++k) {
             set.mean[k] /= set.pixels.size();
             set.side[k] /= set.pixels.size();
