@@ -420,10 +420,11 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
 namespace {
 
 // The image's regions as the segmentation draws them, the ink lines last (drawn over the
-// regions they divide, whatever their size); times and figures into segmentReport.
+// regions they divide, whatever their size), from firstInk on; times and figures into
+// segmentReport.
 std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertOptions& options,
                                    const std::string& imageName, Segmentation& seg,
-                                   SegmentConvertReport& segmentReport) {
+                                   size_t& firstInk, SegmentConvertReport& segmentReport) {
     reportProgress(options.convert, "segmentation");
     auto t0 = Clock::now();
     try {
@@ -446,9 +447,11 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
     regionOptions.minHole = options.convert.minHole;
     std::vector<Region> regions =
         extractRegionsFromLabels(seg.width, seg.height, seg.labels, regionOptions);
-    const int firstInk = seg.count - seg.inkLabels;
-    std::stable_partition(regions.begin(), regions.end(),
-                          [&](const Region& r) { return r.label < firstInk; });
+    const int firstInkLabel = seg.count - seg.inkLabels;
+    firstInk = static_cast<size_t>(
+        std::stable_partition(regions.begin(), regions.end(),
+                              [&](const Region& r) { return r.label < firstInkLabel; }) -
+        regions.begin());
     segmentReport.regionsSeconds = since(t0);
     segmentReport.convert.seconds.regions =
         segmentReport.segmentSeconds + segmentReport.regionsSeconds;
@@ -724,13 +727,11 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     const auto tStart = Clock::now();
 
     Segmentation seg;
+    size_t firstInk = 0;
     const std::vector<Region> regions =
-        segmentRegions(image, options, imageName, seg, segmentReport);
+        segmentRegions(image, options, imageName, seg, firstInk, segmentReport);
 
     auto t0 = Clock::now();
-    const size_t firstInk = static_cast<size_t>(std::count_if(
-        regions.begin(), regions.end(),
-        [&](const Region& r) { return r.label < seg.count - seg.inkLabels; }));
     RegionConverter converter(image, regions, firstInk, options);
     std::vector<RegionOutcome> outcomes;
     if (options.totalPatches > 0 && !regions.empty()) {
