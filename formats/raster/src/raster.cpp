@@ -164,18 +164,25 @@ RgbaImage readImage(const std::string& path, uint64_t maxPixels) {
 
 namespace {
 
-// Encodes through an in-memory proxy.
-std::string encodeInMemory(const OIIO::ImageSpec& spec, const std::vector<float>& data,
-                           const std::string& path) {
-    auto file = OIIO::ImageOutput::create(path);
+// Writes the image to `target` with OpenImageIO's writer for its extension, through `proxy`
+// when given; errors name `path`, the output asked for.
+void writeWithOiio(const OIIO::ImageSpec& spec, const std::vector<float>& data,
+                   const std::string& target, const std::string& path,
+                   OIIO::Filesystem::IOProxy* proxy) {
+    auto file = OIIO::ImageOutput::create(target);
     if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
-    std::vector<unsigned char> encoded;
-    OIIO::Filesystem::IOVecOutput memory(encoded);
-    if (!file->supports("ioproxy") || !file->set_ioproxy(&memory))
+    if (proxy && (!file->supports("ioproxy") || !file->set_ioproxy(proxy)))
         throw Error("the image writer cannot encode in memory", path);
-    if (!file->open(path, spec)) throw Error("cannot write image: " + file->geterror(), path);
+    if (!file->open(target, spec)) throw Error("cannot write image: " + file->geterror(), path);
     if (!file->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !file->close())
         throw Error("cannot write image: " + file->geterror(), path);
+}
+
+std::string encodeInMemory(const OIIO::ImageSpec& spec, const std::vector<float>& data,
+                           const std::string& path) {
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput memory(encoded);
+    writeWithOiio(spec, data, path, path, &memory);
     return std::string(encoded.begin(), encoded.end());
 }
 
@@ -186,11 +193,7 @@ std::string encodeThroughFile(const OIIO::ImageSpec& spec, const std::vector<flo
                               const std::string& extension, const std::string& path) {
     PrivateDir dir;
     const std::string scratch = dir.file("image" + extension);
-    auto file = OIIO::ImageOutput::create(scratch);
-    if (!file) throw Error("no image writer for this extension: " + OIIO::geterror(), path);
-    if (!file->open(scratch, spec) || !file->write_image(OIIO::TypeDesc::FLOAT, data.data()) ||
-        !file->close())
-        throw Error("cannot write image: " + file->geterror(), path);
+    writeWithOiio(spec, data, scratch, path, nullptr);
     std::ifstream in(scratch, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) throw Error("cannot read back the encoded image", path);
