@@ -95,39 +95,39 @@ LocalMap localMap(const PatchColorRule& rule, int ch) {
     return m;
 }
 
-// The node-copy colours (nodes, then every slit's `below` copies), one row each, and back.
+// Calls visit(node) for every node copy in the rule's numbering: the nodes, then every slit's
+// `below` copies. `Mesh` is GradientMesh, const or not.
+template <class Mesh, class Visit>
+void forEachNodeCopy(Mesh& mesh, Visit visit) {
+    for (auto& node : mesh.nodes) visit(node);
+    for (auto& slit : mesh.slits)
+        for (auto& node : slit.below) visit(node);
+}
+
+// The node-copy colours, one row each, and back.
 Eigen::MatrixXd copyColors(const GradientMesh& mesh) {
-    size_t n = mesh.nodes.size();
-    for (const Slit& s : mesh.slits) n += s.below.size();
+    size_t n = 0;
+    forEachNodeCopy(mesh, [&](const Node&) { ++n; });
     Eigen::MatrixXd c(static_cast<Eigen::Index>(n), 3);
     Eigen::Index k = 0;
-    auto put = [&](const Node& node) {
+    forEachNodeCopy(mesh, [&](const Node& node) {
         for (int ch = 0; ch < 3; ++ch) c(k, ch) = node.col[ch];
         ++k;
-    };
-    for (const Node& node : mesh.nodes) put(node);
-    for (const Slit& s : mesh.slits)
-        for (const Node& node : s.below) put(node);
+    });
     return c;
 }
 
 void setCopyColors(GradientMesh& mesh, const Eigen::MatrixXd& c) {
     Eigen::Index k = 0;
-    auto take = [&](Node& node) {
+    forEachNodeCopy(mesh, [&](Node& node) {
         node.col = {c(k, 0), c(k, 1), c(k, 2)};
         ++k;
-    };
-    for (Node& node : mesh.nodes) take(node);
-    for (Slit& s : mesh.slits)
-        for (Node& node : s.below) take(node);
+    });
 }
 
-// Node-copy positions, in the order of copyColors.
 std::vector<Vec2> copyPositions(const GradientMesh& mesh) {
     std::vector<Vec2> out;
-    for (const Node& node : mesh.nodes) out.push_back(node.pos);
-    for (const Slit& s : mesh.slits)
-        for (const Node& node : s.below) out.push_back(node.pos);
+    forEachNodeCopy(mesh, [&](const Node& node) { out.push_back(node.pos); });
     return out;
 }
 
