@@ -99,6 +99,40 @@ TEST_CASE("svg numbers keep 1/100 px without accumulating along a row", "[svg]")
     CHECK(worst <= 0.005 + 1e-9);
 }
 
+TEST_CASE("a mesh's outline path is relative and runs through its boundary nodes", "[svg]") {
+    // Far from the origin and many patches long: written as differences of rounded points, the
+    // outline must not drift from the patches' corners.
+    Document doc;
+    doc.width = 40000;
+    doc.height = 200;
+    doc.meshes.push_back(makeCurvedMesh(200, 2, 12345.67891, 20.123456, 20000.0004, 150, 0.3, 5));
+    const std::string svg = encodeSvg(doc, editable());
+    const std::string head = "fill:url(#m0) none\" d=\"";
+    const size_t at = svg.find(head);
+    REQUIRE(at != std::string::npos);
+    const std::string d = svg.substr(at + head.size(), svg.find('"', at + head.size()) - at - head.size());
+    CHECK(d.find('C') == std::string::npos);  // relative cubics only
+    CHECK(d.find('c') != std::string::npos);
+    // Read back as a flat shape's path: one subpath whose points are the boundary's corners
+    // and handles, in order around the grid.
+    const Document back = decodeSvg(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 40000 200\">"
+        "<path fill=\"#000000\" d=\"" + d + "\"/></svg>",
+        ReadLimits{});
+    REQUIRE(back.shapes.size() == 1);
+    REQUIRE(back.shapes[0].subpaths.size() == 1);
+    const std::vector<Vec2>& path = back.shapes[0].subpaths[0];
+    const GradientMesh& mesh = doc.meshes[0];
+    const int C = mesh.columns(), R = mesh.rows();
+    REQUIRE(path.size() == size_t(3 * (2 * C + 2 * R)));
+    double worst = 0;
+    for (int i = 0; i <= C; ++i) {
+        worst = std::max(worst, maxDistance(path[3 * i], mesh.node(i, 0).pos));
+        worst = std::max(worst, maxDistance(path[3 * (C + R + (C - i))], mesh.node(i, R).pos));
+    }
+    CHECK(worst <= 0.005 + 1e-9);
+}
+
 TEST_CASE("bicubic svg reads back to the same grid", "[svg][roundtrip]") {
     const Document doc = svgtest::curvedDocument();
     const GradientMesh& a = doc.meshes[0];

@@ -252,11 +252,19 @@ void appendShapePath(std::string& out, const FlatShape& shape) {
     out += '"';
     if (shape.alpha < 1) appendOpacity(out, shape.alpha);
     out += " d=\"";
+    appendClosedPathData(out, shape.subpaths);
+    out += "\"/>\n";
+}
+
+void appendClosedPathData(std::string& out, const std::vector<std::vector<Vec2>>& subpaths) {
     PathText text(out);
     StepPoint current;
-    for (size_t k = 0; k < shape.subpaths.size(); ++k)
-        appendSubpath(text, shape.subpaths[k], current, k == 0);
-    out += "\"/>\n";
+    bool first = true;
+    for (const std::vector<Vec2>& path : subpaths) {
+        if (path.size() < 3) continue;
+        appendSubpath(text, path, current, first);
+        first = false;
+    }
 }
 
 bool parseShapePathData(const std::string& d, double maxCoordinate, size_t maxPoints,

@@ -15,6 +15,11 @@ namespace gm {
 // as "z" alone.
 void appendShapePath(std::string& out, const FlatShape& shape);
 
+// Appends path data (the d attribute's text) for closed subpaths in FlatShape's layout (point,
+// handle, handle, point, ..., each subpath a cycle of cubics), written as appendShapePath does.
+// Subpaths of fewer than 3 points are left out.
+void appendClosedPathData(std::string& out, const std::vector<std::vector<Vec2>>& subpaths);
+
 // The subpaths of SVG path data (M m L l H h V v C c Z z, implicit repetition), each closed and
 // in FlatShape's layout (lines as cubics with handles at thirds). Every number must be finite
 // and within ±maxCoordinate; at most maxPoints points in all. On failure returns false with

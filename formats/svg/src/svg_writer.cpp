@@ -422,9 +422,10 @@ Vec2 sideTangent(const SvgPatchGrid& g, int k, int row) {
     return norm(d) > 0 ? (1.0 / norm(d)) * d : Vec2{};
 }
 
-void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
-                    const std::vector<int>& columns, double orientation,
-                    const NumberSyntax& syntax) {
+std::vector<std::vector<Vec2>> seamBandPolygons(const SvgPatchGrid& g, int row,
+                                                const std::vector<int>& columns,
+                                                double orientation) {
+    std::vector<std::vector<Vec2>> polygons;
     for (const auto& [first, last] : columnRuns(columns)) {
         // One polygon per run: the grid row's corners offset both ways along their normals.
         std::vector<Vec2> ahead, behind;
@@ -466,32 +467,42 @@ void appendSeamBand(std::string& out, const SvgPatchGrid& g, int row,
         std::vector<Vec2> polygon = ahead;
         polygon.insert(polygon.end(), behind.rbegin(), behind.rend());
         if (signedArea(polygon) * orientation < 0) std::reverse(polygon.begin(), polygon.end());
-        out += 'M';
-        appendPoints(out, {polygon[0]}, syntax);
-        out += 'L';
-        appendPoints(out, polygon.data() + 1, polygon.data() + polygon.size(), syntax);
-        out += 'Z';
+        polygons.push_back(std::move(polygon));
     }
+    return polygons;
+}
+
+// A polygon as a cycle of cubics with their handles at the thirds of each side (FlatShape's
+// layout), which the compact path writer turns back into lines.
+std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon) {
+    std::vector<Vec2> path;
+    for (size_t k = 0; k < polygon.size(); ++k) {
+        const Vec2 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+        path.insert(path.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
+    }
+    return path;
+}
+
+// The boundary of a grid as one cycle of its outer patch edges, in FlatShape's layout: along
+// the top row, down the right side, back along the bottom row, up the left side.
+std::vector<Vec2> gridBoundaryCubics(const SvgPatchGrid& g) {
+    const int C = g.columns, R = g.rows;
+    std::vector<Vec2> path;
+    auto curve = [&](Vec2 start, Vec2 h1, Vec2 h2) { path.insert(path.end(), {start, h1, h2}); };
+    for (int i = 0; i < C; ++i) curve(g.P(i, 0), g.H(i, 0)[0], g.H(i, 0)[1]);
+    for (int j = 0; j < R; ++j) curve(g.P(C, j), g.V(C, j)[0], g.V(C, j)[1]);
+    for (int i = C - 1; i >= 0; --i) curve(g.P(i + 1, R), g.H(i, R)[1], g.H(i, R)[0]);
+    for (int j = R - 1; j >= 0; --j) curve(g.P(0, j + 1), g.V(0, j)[1], g.V(0, j)[0]);
+    return path;
 }
 
 // The outline of a hole-free mesh as one closed path of its boundary curves, plus bands over
-// its seams with neighbouring pieces.
+// its seams with neighbouring pieces. The compact syntax writes it relative at 1/100 px, as
+// flat shapes are written; the exact syntax absolute, at its own precision.
 void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& id,
                    const NumberSyntax& syntax, const PieceSeams& seams = {}) {
     const int C = g.columns, R = g.rows;
-    // The paint in the style attribute, where mesh polyfills look for it; "none" where the
-    // viewer has no meshes, so that a fallback image beneath shows through.
-    out += "<path style=\"fill:url(#" + id + ") none\" d=\"M";
-    appendPoints(out, {g.P(0, 0)}, syntax);
-    auto curve = [&](Vec2 h1, Vec2 h2, Vec2 e) {
-        out += syntax.compact ? "C" : " C";
-        appendPoints(out, {h1, h2, e}, syntax);
-    };
-    for (int i = 0; i < C; ++i) curve(g.H(i, 0)[0], g.H(i, 0)[1], g.P(i + 1, 0));
-    for (int j = 0; j < R; ++j) curve(g.V(C, j)[0], g.V(C, j)[1], g.P(C, j + 1));
-    for (int i = C - 1; i >= 0; --i) curve(g.H(i, R)[1], g.H(i, R)[0], g.P(i, R));
-    for (int j = R - 1; j >= 0; --j) curve(g.V(0, j)[1], g.V(0, j)[0], g.P(0, j));
-    out += syntax.compact ? "Z" : " Z";
+    std::vector<std::vector<Vec2>> bands;
     if (!seams.top.empty() || !seams.bottom.empty()) {
         std::vector<Vec2> corners;
         for (int i = 0; i < C; ++i) corners.push_back(g.P(i, 0));
@@ -499,8 +510,35 @@ void appendOutline(std::string& out, const SvgPatchGrid& g, const std::string& i
         for (int i = C; i > 0; --i) corners.push_back(g.P(i, R));
         for (int j = R; j > 0; --j) corners.push_back(g.P(0, j));
         const double orientation = signedArea(corners) >= 0 ? 1.0 : -1.0;
-        appendSeamBand(out, g, 0, seams.top, orientation, syntax);
-        appendSeamBand(out, g, R, seams.bottom, orientation, syntax);
+        for (int row : {0, R})
+            for (std::vector<Vec2>& band :
+                 seamBandPolygons(g, row, row == 0 ? seams.top : seams.bottom, orientation))
+                bands.push_back(std::move(band));
+    }
+    // The paint in the style attribute, where mesh polyfills look for it; "none" where the
+    // viewer has no meshes, so that a fallback image beneath shows through.
+    out += "<path style=\"fill:url(#" + id + ") none\" d=\"";
+    if (syntax.compact) {
+        std::vector<std::vector<Vec2>> subpaths{gridBoundaryCubics(g)};
+        for (const std::vector<Vec2>& band : bands) subpaths.push_back(polygonAsCubics(band));
+        appendClosedPathData(out, subpaths);
+    } else {
+        const std::vector<Vec2> boundary = gridBoundaryCubics(g);
+        out += 'M';
+        appendPoints(out, {boundary[0]}, syntax);
+        for (size_t k = 0; k < boundary.size(); k += 3) {
+            out += " C";
+            appendPoints(out, {boundary[k + 1], boundary[k + 2], boundary[(k + 3) % boundary.size()]},
+                         syntax);
+        }
+        out += " Z";
+        for (const std::vector<Vec2>& band : bands) {
+            out += 'M';
+            appendPoints(out, {band[0]}, syntax);
+            out += 'L';
+            appendPoints(out, band.data() + 1, band.data() + band.size(), syntax);
+            out += 'Z';
+        }
     }
     out += "\"/>\n";
 }
