@@ -41,6 +41,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"failed\": " << report.failedRegions << ", \"holes_filled\": " << report.filledRegions
       << ", \"thin_parts_apart\": " << report.trimmedRegions
       << ", \"split_at_necks\": " << report.splitRegions << ", \"flat\": " << report.flatRegions
+      << ", \"finer_segments\": " << report.finerSegments
       << ", \"thin_structures\": " << segmentation.thinStructures
       << ", \"ink_lines\": " << segmentation.inkLines
       << ", \"base_patches\": " << report.basePatches

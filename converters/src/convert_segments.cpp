@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <new>
 #include <thread>
 
@@ -715,6 +716,57 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
 
 }  // namespace
 
+// Whether to segment again towards options.shadedSegments (SegmentConvertOptions): the count
+// was automatic, a total budget (if any) allows finerPatchesPerSegment patches per region, ink
+// lines were looked for and none found, and the shaded regions hold at least shadedShare of
+// the pixels.
+bool wantsFinerSegments(const SegmentConvertOptions& options, const Segmentation& seg,
+                        const std::vector<Region>& regions, size_t firstInk,
+                        const RegionConverter& converter) {
+    const bool inkLooked =
+        options.segment.inkLines && options.convert.colors != ColorMode::Fit;
+    if (options.shadedSegments <= 0 || options.segment.segments > 0 ||
+        options.segment.threshold > 0 || !inkLooked || seg.inkLabels > 0 || regions.empty())
+        return false;
+    if (options.totalPatches > 0 &&
+        options.totalPatches < options.finerPatchesPerSegment * options.shadedSegments)
+        return false;
+    long shaded = 0;
+    for (size_t k = 0; k < firstInk; ++k)
+        if (!converter.isFlat(k)) shaded += regions[k].pixelCount;
+    return double(shaded) >= options.shadedShare * double(seg.width) * double(seg.height);
+}
+
+// The image segmented again with `finer` (towards shadedSegments regions). Its regions replace
+// `regions` (and seg, firstInk) when they are at least twice as many, else they are dropped: a
+// photograph whose regions FH does not split further gains nothing from them. The seconds of
+// both segmentations are counted in segmentReport.
+bool segmentFiner(const RgbaImage& image, const SegmentConvertOptions& finer,
+                  const std::string& imageName, Segmentation& seg, std::vector<Region>& regions,
+                  size_t& firstInk, SegmentConvertReport& segmentReport) {
+    SegmentConvertReport finerReport = segmentReport;
+    Segmentation finerSeg;
+    size_t finerInk = 0;
+    std::vector<Region> finerRegions =
+        segmentRegions(image, finer, imageName, finerSeg, finerInk, finerReport);
+    const bool kept = finerRegions.size() >= 2 * regions.size();
+    if (kept) {
+        finerReport.segmentSeconds += segmentReport.segmentSeconds;
+        finerReport.regionsSeconds += segmentReport.regionsSeconds;
+        finerReport.convert.seconds.regions += segmentReport.convert.seconds.regions;
+        finerReport.finerSegments = finer.segment.segments;
+        segmentReport = std::move(finerReport);
+        seg = std::move(finerSeg);
+        regions = std::move(finerRegions);
+        firstInk = finerInk;
+    } else {
+        segmentReport.segmentSeconds += finerReport.segmentSeconds;
+        segmentReport.regionsSeconds += finerReport.regionsSeconds;
+        segmentReport.convert.seconds.regions += finerReport.convert.seconds.regions;
+    }
+    return kept;
+}
+
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report) {
     SegmentConvertReport local;
@@ -728,23 +780,32 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
 
     Segmentation seg;
     size_t firstInk = 0;
-    const std::vector<Region> regions =
+    std::vector<Region> regions =
         segmentRegions(image, options, imageName, seg, firstInk, segmentReport);
+    auto converter = std::make_unique<RegionConverter>(image, regions, firstInk, options);
+    // What the regions are converted with: the options, or those of the finer segmentation.
+    SegmentConvertOptions used = options;
+    if (wantsFinerSegments(options, seg, regions, firstInk, *converter)) {
+        used.segment.segments = options.shadedSegments;
+        if (segmentFiner(image, used, imageName, seg, regions, firstInk, segmentReport))
+            converter = std::make_unique<RegionConverter>(image, regions, firstInk, used);
+        else
+            used = options;
+    }
 
     auto t0 = Clock::now();
-    RegionConverter converter(image, regions, firstInk, options);
     std::vector<RegionOutcome> outcomes;
-    if (options.totalPatches > 0 && !regions.empty()) {
-        outcomes = convertWithinTotal(converter, regions, options, segmentReport);
+    if (used.totalPatches > 0 && !regions.empty()) {
+        outcomes = convertWithinTotal(*converter, regions, used, segmentReport);
     } else {
         std::vector<std::pair<size_t, int>> jobs;
-        for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, converter.maxPatches()});
-        converter.run(jobs, outcomes);
+        for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, converter->maxPatches()});
+        converter->run(jobs, outcomes);
     }
     segmentReport.convertSeconds = since(t0);
 
     reportProgress(options.convert, "assemble");
-    Document doc = assembleDocument(image, regions, outcomes, options, segmentReport);
+    Document doc = assembleDocument(image, regions, outcomes, used, segmentReport);
     reportProgress(options.convert, "measure");
     t0 = Clock::now();
     measureSegmented(doc, image, seg.labels, segmentReport);

@@ -427,3 +427,40 @@ TEST_CASE("a larger whole-image patch budget does not make the image worse where
     }
     CHECK(last > 20.5);
 }
+
+TEST_CASE("a photograph is segmented finer where the budget allows; drawings are not",
+          "[convert][segment][finer]") {
+    // A mesh refines whole rows and columns of its grid: in smarties.png's few large regions
+    // the patches that draw one sweet run across the table. Segmented again towards
+    // shadedSegments regions, the same total budget draws the photograph better.
+    const RgbaImage photo = readImage(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    SegmentConvertOptions o;
+    o.totalPatches = 1000;
+    SegmentConvertReport finer, coarse;
+    convertSegmented(photo, o, "smarties.png", &finer);
+    o.shadedSegments = 0;
+    convertSegmented(photo, o, "smarties.png", &coarse);
+    CHECK(finer.finerSegments == 100);
+    CHECK(coarse.finerSegments == 0);
+    CHECK(finer.convert.regions.size() > 2 * coarse.convert.regions.size());
+    CHECK(finer.convert.patches <= 1000 + int(finer.convert.regions.size()));
+    UNSCOPED_INFO("PSNR finer " << finer.convert.error.psnr << " dB, coarse "
+                                << coarse.convert.error.psnr << " dB");
+    CHECK(finer.convert.error.psnr > coarse.convert.error.psnr + 0.3);
+
+    // Under a budget of fewer than finerPatchesPerSegment patches per region it is not.
+    o = SegmentConvertOptions{};
+    o.totalPatches = 500;
+    SegmentConvertReport small;
+    convertSegmented(photo, o, "smarties.png", &small);
+    CHECK(small.finerSegments == 0);
+
+    // A drawing of flat colours, and a cartoon drawn between ink lines, keep their regions.
+    for (const char* name : {"opencv-logo.png", "HappyFish.jpg"}) {
+        INFO(name);
+        SegmentConvertReport drawing;
+        convertSegmented(readImage(std::string(GRADMESH_SAMPLES) + "/" + name),
+                         SegmentConvertOptions{}, name, &drawing);
+        CHECK(drawing.finerSegments == 0);
+    }
+}

@@ -75,6 +75,20 @@ struct SegmentConvertOptions {
     // Regions of one colour (fitFlatColour against convert.maxError) become flat shapes
     // (Document::shapes) in their place in the drawing order instead of meshes.
     bool flatShapes = true;
+    // A photograph segmented finer. When the region count is automatic (segment.segments and
+    // segment.threshold 0), ink lines were looked for and none found (without them, with
+    // --colors hermite or a compact file's budget, a drawing cannot be told from a photograph)
+    // and the shaded regions (neither flat nor ink) hold at least shadedShare of the pixels,
+    // the image is segmented again towards shadedSegments regions, kept when that gives at
+    // least twice as many regions. A mesh refines whole rows and columns of its grid, so in one
+    // large region the patches that draw a detail run across all of it; smaller regions keep
+    // them where the detail is. A drawing keeps its few regions: they are flat, or drawn
+    // between ink lines. Not under a total budget of fewer than finerPatchesPerSegment patches
+    // per region wanted: there each region's outline costs more than its patches save.
+    // 0 shadedSegments: never.
+    int shadedSegments = 100;
+    double shadedShare = 0.5;
+    int finerPatchesPerSegment = 10;
     FlatOptions flat;
 };
 
@@ -89,6 +103,8 @@ struct SegmentConvertReport {
                                  // 11) px, and those parts as meshes of their own
     int splitRegions = 0;        // cut at necks, each side converted on its own
     int flatRegions = 0;         // flat shapes instead of meshes (part "flat")
+    int finerSegments = 0;       // the shadedSegments target of the finer segmentation kept,
+                                 // else 0
     int basePatches = 0;
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment
