@@ -13,6 +13,7 @@
 #include "converters/foreground.h"
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
+#include "opencv_memory.h"
 
 namespace gm {
 
@@ -117,7 +118,10 @@ void refineBand(const cv::Mat& bgr, cv::Mat& labels, int band, const GrabCutResu
 
 }  // namespace
 
-std::vector<uint8_t> grabCutForeground(const RgbaImage& image, int iterations, int threads) {
+namespace {
+
+// grabCutForeground, OpenCV's allocation failures left as they are.
+std::vector<uint8_t> foregroundStages(const RgbaImage& image, int iterations, int threads) {
     const int W = image.width, H = image.height;
     if (W < 8 || H < 8) throw Error("image too small for foreground extraction (needs 8x8 or more)");
     const cv::Mat bgr = toBgr8(image);
@@ -142,6 +146,13 @@ std::vector<uint8_t> grabCutForeground(const RgbaImage& image, int iterations, i
         for (int x = 0; x < W; ++x) mask[static_cast<size_t>(y) * W + x] = isForeground(l[x]) ? 1 : 0;
     }
     return mask;
+}
+
+}  // namespace
+
+std::vector<uint8_t> grabCutForeground(const RgbaImage& image, int iterations, int threads) {
+    return withOpenCvOutOfMemoryAsBadAlloc(
+        [&] { return foregroundStages(image, iterations, threads); });
 }
 
 }  // namespace gm

@@ -15,6 +15,7 @@
 
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
+#include "opencv_memory.h"
 #include "segment_borders.h"
 #include "segment_ink.h"
 #include "segment_thin.h"
@@ -996,7 +997,10 @@ std::vector<int> grabCutStage(const cv::Mat& bgr, const cv::Mat& work, const FhR
 // image's area. A minRegion given is honoured.
 constexpr long kMinThinStructure = 64;
 
-Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
+namespace {
+
+// segmentImage's stages, OpenCV's allocation failures left as they are.
+Segmentation segmentStages(const RgbaImage& image, const SegmentOptions& options) {
     const auto t0 = Clock::now();
     const int W = image.width, H = image.height;
     if (W <= 0 || H <= 0 || image.pixels.size() < static_cast<size_t>(W) * H * 4)
@@ -1062,6 +1066,12 @@ Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options)
         static_cast<int>(std::count(inkLabel.begin(), inkLabel.end(), 1));
     st.seconds = secondsSince(t0);
     return seg;
+}
+
+}  // namespace
+
+Segmentation segmentImage(const RgbaImage& image, const SegmentOptions& options) {
+    return withOpenCvOutOfMemoryAsBadAlloc([&] { return segmentStages(image, options); });
 }
 
 }  // namespace gm
