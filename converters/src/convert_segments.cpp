@@ -714,8 +714,6 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
                   .uncovered;
 }
 
-}  // namespace
-
 // Whether to segment again towards options.shadedSegments (SegmentConvertOptions): the count
 // was automatic, a total budget (if any) allows finerPatchesPerSegment patches per region, ink
 // lines were looked for and none found, and the shaded regions hold at least shadedShare of
@@ -737,6 +735,13 @@ bool wantsFinerSegments(const SegmentConvertOptions& options, const Segmentation
     return double(shaded) >= options.shadedShare * double(seg.width) * double(seg.height);
 }
 
+// segmentRegions' seconds in `from` added to those in `into`.
+void addSegmentationSeconds(SegmentConvertReport& into, const SegmentConvertReport& from) {
+    into.segmentSeconds += from.segmentSeconds;
+    into.regionsSeconds += from.regionsSeconds;
+    into.convert.seconds.regions += from.convert.seconds.regions;
+}
+
 // The image segmented again with `finer` (towards shadedSegments regions). Its regions replace
 // `regions` (and seg, firstInk) when they are at least twice as many, else they are dropped: a
 // photograph whose regions FH does not split further gains nothing from them. The seconds of
@@ -751,21 +756,19 @@ bool segmentFiner(const RgbaImage& image, const SegmentConvertOptions& finer,
         segmentRegions(image, finer, imageName, finerSeg, finerInk, finerReport);
     const bool kept = finerRegions.size() >= 2 * regions.size();
     if (kept) {
-        finerReport.segmentSeconds += segmentReport.segmentSeconds;
-        finerReport.regionsSeconds += segmentReport.regionsSeconds;
-        finerReport.convert.seconds.regions += segmentReport.convert.seconds.regions;
+        addSegmentationSeconds(finerReport, segmentReport);
         finerReport.finerSegments = finer.segment.segments;
         segmentReport = std::move(finerReport);
         seg = std::move(finerSeg);
         regions = std::move(finerRegions);
         firstInk = finerInk;
     } else {
-        segmentReport.segmentSeconds += finerReport.segmentSeconds;
-        segmentReport.regionsSeconds += finerReport.regionsSeconds;
-        segmentReport.convert.seconds.regions += finerReport.convert.seconds.regions;
+        addSegmentationSeconds(segmentReport, finerReport);
     }
     return kept;
 }
+
+}  // namespace
 
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
                           const std::string& imageName, SegmentConvertReport* report) {
@@ -782,13 +785,21 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
     size_t firstInk = 0;
     std::vector<Region> regions =
         segmentRegions(image, options, imageName, seg, firstInk, segmentReport);
-    auto converter = std::make_unique<RegionConverter>(image, regions, firstInk, options);
+    // Its set-up (each region's flat fit) is counted in the conversion's seconds.
+    double setupSeconds = 0;
+    auto makeConverter = [&](const SegmentConvertOptions& o) {
+        const auto t = Clock::now();
+        auto made = std::make_unique<RegionConverter>(image, regions, firstInk, o);
+        setupSeconds += since(t);
+        return made;
+    };
+    auto converter = makeConverter(options);
     // What the regions are converted with: the options, or those of the finer segmentation.
     SegmentConvertOptions used = options;
     if (wantsFinerSegments(options, seg, regions, firstInk, *converter)) {
         used.segment.segments = options.shadedSegments;
         if (segmentFiner(image, used, imageName, seg, regions, firstInk, segmentReport))
-            converter = std::make_unique<RegionConverter>(image, regions, firstInk, used);
+            converter = makeConverter(used);
         else
             used = options;
     }
@@ -802,7 +813,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, converter->maxPatches()});
         converter->run(jobs, outcomes);
     }
-    segmentReport.convertSeconds = since(t0);
+    segmentReport.convertSeconds = setupSeconds + since(t0);
 
     reportProgress(options.convert, "assemble");
     Document doc = assembleDocument(image, regions, outcomes, used, segmentReport);
