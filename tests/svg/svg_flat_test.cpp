@@ -39,9 +39,10 @@ TEST_CASE("flat shapes are compact paths between the meshes and read back", "[sv
     WriteOptions options;
     options.svgScript = "none";
     const std::string svg = encodeSvg(doc, options);
-    // One plain path per shape, relative commands, the square's lines as lines.
+    // One plain path per shape, relative commands, the square's lines as lines along the axes
+    // (the last one z's).
     CHECK(svg.find("<path fill=\"#d91a26\" d=\"M") != std::string::npos);
-    CHECK(svg.find("<path fill=\"#1a4de6\" d=\"M20.25 110.5l60 0") != std::string::npos);
+    CHECK(svg.find("<path fill=\"#1a4de6\" d=\"M20.25 110.5h60v60h-60zm") != std::string::npos);
     // Paint order: ring after the first mesh's outline, before the second's.
     const size_t ring = svg.find("fill=\"#d91a26\""), square = svg.find("fill=\"#1a4de6\"");
     const size_t m0 = svg.find("url(#m0)"), m1 = svg.find("url(#m1)");

@@ -21,7 +21,7 @@ struct StepPoint {
 };
 StepPoint steps(Vec2 p) { return {std::llround(p.x * kSteps), std::llround(p.y * kSteps)}; }
 StepPoint operator-(StepPoint a, StepPoint b) { return {a.x - b.x, a.y - b.y}; }
-bool operator==(StepPoint a, StepPoint b) { return a.x == b.x && a.y == b.y; }
+StepPoint operator+(StepPoint a, StepPoint b) { return {a.x + b.x, a.y + b.y}; }
 
 // Path data with separators only where the grammar needs them and command letters only where
 // the command changes (a repeated command may be left out, except after a moveto, whose
@@ -40,8 +40,6 @@ public:
         number(p.x);
         number(p.y);
     }
-
-private:
     void number(long long v) {
         text_.clear();
         appendSvgNumber(text_, static_cast<double>(v) / kSteps, true, kDecimals);
@@ -52,6 +50,7 @@ private:
         afterLetter_ = false;
     }
 
+private:
     std::string& out_;
     std::string text_;
     char last_ = 0;
@@ -66,6 +65,24 @@ bool isLine(StepPoint a, StepPoint h1, StepPoint h2, StepPoint b) {
     return near(h1, a, b, 1.0 / 3) && near(h2, a, b, 2.0 / 3);
 }
 
+// Whether step b continues step a in the same direction (so one line can draw both).
+bool continues(StepPoint a, StepPoint b) {
+    return a.x * b.y == a.y * b.x && a.x * b.x + a.y * b.y > 0;
+}
+
+// A line by `step`: h or v along an axis, else l.
+void appendLine(PathText& text, StepPoint step) {
+    if (step.y == 0 || step.x == 0) {
+        text.command(step.y == 0 ? 'h' : 'v');
+        text.number(step.y == 0 ? step.x : step.y);
+        return;
+    }
+    text.command('l');
+    text.point(step);
+}
+
+// One closed subpath: straight segments as lines (consecutive ones in one direction merged,
+// the closing run left to z), the others as cubics.
 void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& current, bool first) {
     const size_t n = path.size();
     const StepPoint start = steps(path[0]);
@@ -76,23 +93,34 @@ void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& cur
         text.command('m');
         text.point(start - current);
     }
+    StepPoint run;  // the lines not yet written, from `at`
+    StepPoint at = start;
     for (size_t k = 0; k < n; k += 3) {
         const StepPoint a = steps(path[k]), h1 = steps(path[k + 1]), h2 = steps(path[k + 2]);
         const StepPoint b = steps(path[(k + 3) % n]);
-        const bool closing = k + 3 >= n;
         if (isLine(a, h1, h2, b)) {
-            if (closing) break;  // z draws it
-            if (b == a) continue;
-            text.command('l');
-            text.point(b - a);
-        } else {
-            text.command('c');
-            text.point(h1 - a);
-            text.point(h2 - a);
-            text.point(b - a);
+            const StepPoint step = b - a;
+            if (step.x == 0 && step.y == 0) continue;
+            if ((run.x != 0 || run.y != 0) && !continues(run, step)) {
+                appendLine(text, run);
+                at = at + run;
+                run = {};
+            }
+            run = run + step;
+            continue;
         }
+        if (run.x != 0 || run.y != 0) {
+            appendLine(text, run);
+            at = at + run;
+            run = {};
+        }
+        text.command('c');
+        text.point(h1 - at);
+        text.point(h2 - at);
+        text.point(b - at);
+        at = b;
     }
-    text.command('z');
+    text.command('z');  // draws the run of lines left, which ends at the start
     current = start;  // after z the current point is the subpath's start
 }
 

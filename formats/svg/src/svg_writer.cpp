@@ -616,10 +616,12 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     SvgEncodeStats local;
     std::string out;
     out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    out += "<!-- gradmesh: SVG 2 meshgradient; drawn by Inkscape, and in browsers by the script at the end -->\n";
+    if (!pieces.empty())  // a file of flat shapes alone is plain SVG 1.1
+        out += "<!-- gradmesh: SVG 2 meshgradient; drawn by Inkscape, and in browsers by the script at the end -->\n";
     out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(doc.width) +
            "\" height=\"" + std::to_string(doc.height) + "\" viewBox=\"0 0 " +
-           std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n<defs>\n";
+           std::to_string(doc.width) + " " + std::to_string(doc.height) + "\">\n";
+    if (!pieces.empty()) out += "<defs>\n";
     if (fallback) {  // the layer's namespaces, after the SVG one on the root element
         const std::string svgNamespace = "xmlns=\"http://www.w3.org/2000/svg\"";
         out.insert(out.rfind(svgNamespace) + svgNamespace.size(), svgFallbackNamespaces());
@@ -651,7 +653,7 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
         appendOutline(paths, base, id, syntax, p.seams);
     }
     shapesUpTo(SIZE_MAX);
-    out += "</defs>\n";
+    if (!pieces.empty()) out += "</defs>\n";
     if (fallback) appendSvgFallbackLayer(out, *fallback, doc.width, doc.height);  // beneath the shapes
     out += paths;
     if (options.svgScript == "embed" && !pieces.empty()) appendMeshScript(out);
