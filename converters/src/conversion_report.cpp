@@ -45,6 +45,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"thin_structures\": " << segmentation.thinStructures
       << ", \"ink_lines\": " << segmentation.inkLines
       << ", \"base_patches\": " << report.basePatches
+      << ", \"flat_backdrop\": " << (report.flatBackdrop ? "true" : "false")
       << ", \"region_uncovered\": " << num(report.regionUncovered)
       << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions
       << ",\n    \"seconds\": {\"segmentation\": " << num(report.segmentSeconds)

@@ -537,6 +537,7 @@ private:
             FlatOptions flatOptions = options_.flat;
             if (k >= firstInk_) {
                 flatOptions.curveTolerance = flatOptions.inkCurveTolerance;
+                flatOptions.outlineSmoothing = flatOptions.inkOutlineSmoothing;
                 flatOptions.blendEachSide = true;
             }
             out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
@@ -680,6 +681,20 @@ Document assembleDocument(const RgbaImage& image, const std::vector<Region>& reg
         segmentReport.fallbacks.push_back(std::move(o.fallback));
         convertReport.regions.push_back(std::move(o.report));
     }
+    // A drawing of flat shapes only: the region drawn first, beneath all the others, becomes
+    // a backdrop over the whole canvas (an outline of four lines rather than one around every
+    // other region), in place of the base mesh, so that the file holds no mesh at all.
+    if (!anyFailed && doc.meshes.size() == 1 && !doc.shapes.empty() &&
+        outcomes.front().fate == RegionFate::Flat) {
+        doc.meshes.clear();
+        const size_t firstShapes = outcomes.front().shapes.size();
+        const Vec3 col = doc.shapes.front().col;
+        doc.shapes.erase(doc.shapes.begin(), doc.shapes.begin() + static_cast<long>(firstShapes));
+        for (FlatShape& shape : doc.shapes) shape.layer = 0;
+        doc.shapes.insert(doc.shapes.begin(), canvasRectangle(image.width, image.height, col));
+        segmentReport.basePatches = 0;
+        segmentReport.flatBackdrop = true;
+    }
     convertReport.seconds.mesh += baseSeconds;
     convertReport.patches += segmentReport.basePatches;
     return doc;
@@ -705,8 +720,13 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
     segmentReport.border = compareOverMask(image, full.image, border);
     segmentReport.interior = compareOverMask(image, full.image, inner);
     Document regionsOnly = doc;
-    regionsOnly.meshes.erase(regionsOnly.meshes.begin());
-    for (FlatShape& shape : regionsOnly.shapes) shape.layer = std::max<size_t>(1, shape.layer) - 1;
+    if (segmentReport.flatBackdrop) {
+        regionsOnly.shapes.erase(regionsOnly.shapes.begin());
+    } else {
+        regionsOnly.meshes.erase(regionsOnly.meshes.begin());
+        for (FlatShape& shape : regionsOnly.shapes)
+            shape.layer = std::max<size_t>(1, shape.layer) - 1;
+    }
     segmentReport.regionUncovered =
         regionsOnly.meshes.empty() && regionsOnly.shapes.empty()
             ? 1.0

@@ -308,9 +308,86 @@ std::vector<Vec2> densify(const std::vector<Vec2>& poly, std::vector<size_t>& ve
     return out;
 }
 
+// The closed loop `pts` (points a pixel apart or less) smoothed (OutlineSmoothing), never
+// across the `held` points (indices), which stay.
+std::vector<Vec2> smoothLoop(const std::vector<Vec2>& pts, const std::vector<size_t>& held,
+                             const OutlineSmoothing& smoothing) {
+    const double sigma = smoothing.sigma;
+    const long n = static_cast<long>(pts.size());
+    if (!(sigma > 0) || n < 3) return pts;
+    const long reach = std::min(n / 2, static_cast<long>(std::ceil(3 * sigma)));
+    std::vector<uint8_t> fixed(pts.size(), 0);
+    for (size_t c : held) fixed[c % pts.size()] = 1;
+    auto wrap = [n](long k) { return static_cast<size_t>((k % n + n) % n); };
+    std::vector<Vec2> out = pts;
+    for (long k = 0; k < n; ++k) {
+        if (fixed[wrap(k)]) continue;
+        Vec2 sum = pts[wrap(k)];
+        double weights = 1;
+        for (int side = -1; side <= 1; side += 2)
+            for (long d = 1; d <= reach; ++d) {
+                const size_t q = wrap(k + side * d);
+                const double weight = std::exp(-0.5 * double(d * d) / (sigma * sigma));
+                sum = sum + weight * pts[q];
+                weights += weight;
+                if (fixed[q]) break;  // a held point ends the stretch on this side
+            }
+        const Vec2 shift = (1.0 / weights) * sum - pts[wrap(k)];
+        const double length = norm(shift);
+        const double most = smoothing.maxShift;
+        out[wrap(k)] = pts[wrap(k)] + (length > most ? most / length : 1.0) * shift;
+    }
+    return out;
+}
+
 double turnAngle(Vec2 before, Vec2 after) {
     const double c = dot(unit(before), unit(after));
     return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+// The point `reach` pixels along the closed polygon from vertex k, forwards (step +1) or
+// backwards (-1).
+Vec2 pointAlong(const std::vector<Vec2>& poly, size_t k, double reach, int step) {
+    const size_t m = poly.size();
+    Vec2 p = poly[k];
+    double left = reach;
+    for (size_t walked = 0; walked < m; ++walked) {
+        k = (k + m + static_cast<size_t>(step + static_cast<int>(m))) % m;
+        const double d = norm(poly[k] - p);
+        if (d >= left) return p + (left / d) * (poly[k] - p);
+        left -= d;
+        p = poly[k];
+    }
+    return p;
+}
+
+// How far the outline turns at each vertex of the closed polygon, between the points `reach`
+// pixels before and after it.
+std::vector<double> turnsWithin(const std::vector<Vec2>& poly, double reach) {
+    std::vector<double> turns(poly.size());
+    for (size_t k = 0; k < poly.size(); ++k)
+        turns[k] = turnAngle(poly[k] - pointAlong(poly, k, reach, -1),
+                             pointAlong(poly, k, reach, +1) - poly[k]);
+    return turns;
+}
+
+// Whether vertex k turns most (the first so when equal) among the vertices within `reach`
+// pixels of it along the polygon.
+bool isSharpestNear(const std::vector<Vec2>& poly, const std::vector<double>& turns, size_t k,
+                    double reach) {
+    const size_t m = poly.size();
+    for (int step = -1; step <= 1; step += 2) {
+        double walked = 0;
+        size_t q = k;
+        for (size_t count = 1; count < m; ++count) {
+            const size_t next = (q + m + static_cast<size_t>(step + static_cast<int>(m))) % m;
+            walked += norm(poly[next] - poly[q]);
+            q = next;
+            if (walked > reach || q == k) break;
+            if (turns[q] > turns[k] || (turns[q] == turns[k] && q < k)) return false;
+        }
+    }
+    return true;
 }
 
 
@@ -415,7 +492,8 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
     return fit;
 }
 
-std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance) {
+std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance,
+                                  const OutlineSmoothing& smoothing) {
     std::vector<Vec2> out;
     const size_t m = polygon.size();
     if (m < 3) {
@@ -425,20 +503,25 @@ std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double toler
     std::vector<size_t> vertexAt;
     const std::vector<Vec2> pts = densify(polygon, vertexAt);
     const size_t n = pts.size();
-    // Corners: vertices that turn more than 50 degrees. Without any, the vertex that turns most
-    // starts the loop and the curves meet there smoothly too.
+    // Corners: vertices where the outline turns more than 50 degrees within a pixel either
+    // side (so that a corner the trace cut off in two half turns is one), the sharpest of
+    // those near each other. Without any, the vertex that turns most starts the loop and the
+    // curves meet there smoothly too.
     constexpr double kCornerAngle = 50 * M_PI / 180;
-    std::vector<size_t> corners;
+    const std::vector<double> turns = turnsWithin(polygon, 1.0);
+    std::vector<size_t> corners, turning;
     size_t sharpest = 0;
     double sharpestAngle = -1;
     for (size_t k = 0; k < m; ++k) {
-        const double a =
-            turnAngle(polygon[k] - polygon[(k + m - 1) % m], polygon[(k + 1) % m] - polygon[k]);
-        if (a > kCornerAngle) corners.push_back(vertexAt[k]);
+        const double a = turns[k];
+        if (a > smoothing.holdTurn * M_PI / 180) turning.push_back(vertexAt[k]);
+        if (a > kCornerAngle && isSharpestNear(polygon, turns, k, 1.0))
+            corners.push_back(vertexAt[k]);
         if (a > sharpestAngle) sharpestAngle = a, sharpest = vertexAt[k];
     }
-    CubicFitter fitter(pts, tolerance);
-    auto at = [&](size_t k) { return pts[k % n]; };
+    const std::vector<Vec2> smoothed = smoothLoop(pts, turning, smoothing);
+    CubicFitter fitter(smoothed, tolerance);
+    auto at = [&](size_t k) { return smoothed[k % n]; };
     if (corners.empty()) {
         const Vec2 t = unit(at(sharpest + 1) - at(sharpest + n - 1));
         fitter.fit(sharpest, sharpest + n, t, -t, out);
@@ -466,7 +549,7 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     regionOptions.minHole = options.minHole;
     regionOptions.simplifyTolerance = 0.1;
     regionOptions.maxSegment = 1e6;
-    regionOptions.smoothing = options.outlineSmoothing;
+    regionOptions.smoothing = options.coverageSmoothing;
     const bool sameSize = image.width == w && image.height == h;
     const std::vector<Region> traced = extractRegions(
         sameSize ? shareCoverage(image, own.mask, grown, under, col, options.blendEachSide)
@@ -479,11 +562,27 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     // dips below one half somewhere traces as several.
     for (const Region& piece : traced) {
         if (!holdsAny(piece.mask, own.mask)) continue;  // another region's border, not ours
-        shape.subpaths.push_back(fitClosedCubics(piece.outer.points, options.curveTolerance));
+        shape.subpaths.push_back(
+            fitClosedCubics(piece.outer.points, options.curveTolerance, options.outlineSmoothing));
         for (const Polygon& hole : piece.holes)
-            shape.subpaths.push_back(fitClosedCubics(hole.points, options.curveTolerance));
+            shape.subpaths.push_back(
+                fitClosedCubics(hole.points, options.curveTolerance, options.outlineSmoothing));
     }
     return shape;
+}
+
+FlatShape canvasRectangle(int width, int height, const Vec3& col) {
+    const double w = width, h = height;
+    const Vec2 corners[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
+    std::vector<Vec2> outline;
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 a = corners[k], b = corners[(k + 1) % 4];
+        outline.insert(outline.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
+    }
+    FlatShape rectangle;
+    rectangle.col = col;
+    rectangle.subpaths = {outline};
+    return rectangle;
 }
 
 }  // namespace gm

@@ -104,7 +104,13 @@ TEST_CASE("a flat drawing converts into flat shapes and a far smaller SVG", "[fl
     const Document meshDoc = convertSegmented(image, options, "rings", &withoutFlat);
     CHECK(validateDocument(flatDoc).empty());
     CHECK(withFlat.flatRegions >= 4);  // the background and the three rings
-    CHECK(flatDoc.shapes.size() == static_cast<size_t>(withFlat.flatRegions));
+    // Every region flat: the first becomes the backdrop over the whole canvas, in place of
+    // the base mesh, and there is no mesh at all.
+    CHECK(withFlat.flatBackdrop);
+    CHECK(flatDoc.meshes.empty());
+    REQUIRE(flatDoc.shapes.size() == static_cast<size_t>(withFlat.flatRegions));
+    CHECK(flatDoc.shapes.front().subpaths ==
+          std::vector<std::vector<Vec2>>{canvasRectangle(image.width, image.height, {}).subpaths});
     CHECK(withoutFlat.flatRegions == 0);
     WriteOptions write;
     write.svgScript = "none";

@@ -105,7 +105,8 @@ struct SegmentConvertReport {
     int flatRegions = 0;         // flat shapes instead of meshes (part "flat")
     int finerSegments = 0;       // the shadedSegments target of the finer segmentation kept,
                                  // else 0
-    int basePatches = 0;
+    int basePatches = 0;         // 0 with a flat backdrop
+    bool flatBackdrop = false;   // every region flat: a flat rectangle instead of the base mesh
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment
     FitError interior;           // ... and over the others

@@ -13,6 +13,15 @@
 
 namespace gm {
 
+// How a traced outline is smoothed along its length before its Bézier fit: a Gaussian of
+// `sigma` points of the outline densified to a pixel apart or less (0: not smoothed), held at the points where it turns more than `holdTurn`
+// degrees within a pixel either side, and moving no point further than `maxShift` pixels.
+struct OutlineSmoothing {
+    double sigma = 0;
+    double holdTurn = 50;
+    double maxShift = 0.5;
+};
+
 struct FlatOptions {
     // A region is flat when one colour fits its interior pixels (those whose four neighbours
     // are in the region too; all its pixels when fewer than minInterior, or than
@@ -34,7 +43,12 @@ struct FlatOptions {
     // the colour around it furthest from it; with blendEachSide (ink lines, which part two
     // regions), with the one around it that explains it best.
     bool blendEachSide = false;
-    double outlineSmoothing = 0.4;  // Gaussian sigma (pixels) on the coverage traced
+    double coverageSmoothing = 0.4;  // Gaussian sigma (pixels) on the coverage traced
+    // The traced outline smoothed before the Bézier fit: a border anti-aliased in steps traces
+    // as a staircase, which the fit would follow with a curve per step. An ink line's ends turn
+    // within a pixel or two, so its outline is held wherever it turns more gently.
+    OutlineSmoothing outlineSmoothing{1.5, 50, 0.5};
+    OutlineSmoothing inkOutlineSmoothing{1.0, 30, 0.5};
     // Holes of fewer pixels are filled: a border pixel that holds less than half of the shape's
     // colour makes a speck of a hole, which what is drawn on top covers anyway.
     int minHole = 3;
@@ -62,8 +76,13 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
 FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
                          const std::vector<uint8_t>& under, const FlatOptions& options = {});
 
+// The whole canvas as a flat shape of colour `col`, its outline clockwise on screen.
+FlatShape canvasRectangle(int width, int height, const Vec3& col);
+
 // A closed polygon as closed cubic Béziers (FlatShape subpath layout) within `tolerance` pixels
 // of it: corners sharper than 50 degrees stay corners; elsewhere the curves join smoothly.
-std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance);
+// The polygon is first smoothed as `smoothing` says.
+std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance,
+                                  const OutlineSmoothing& smoothing = {});
 
 }  // namespace gm
