@@ -401,11 +401,14 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
     const std::string& out = targets.at(0).path;  // the one the report describes
     for (const ImageTarget& t : targets) {
         checkPlaces(in, t.path, job);
-        // A compact file under a whole-image patch budget is about bytes, and ink lines'
-        // cubics cost bytes outside the budget (docs/design.md §5).
+        // A compact file under a whole-image patch budget is about bytes, and the cubics of
+        // ink lines and of shaded regions drawn flat cost bytes outside the budget
+        // (docs/design.md §5).
         if (job.segmentOptions.totalPatches > 0 && writeOptions.compact &&
-            t.writer->name() == "gmb")
+            t.writer->name() == "gmb") {
             job.segmentOptions.segment.inkLines = false;
+            job.segmentOptions.flatRungs = false;
+        }
     }
     // Every output of the run is written to its temporary and renamed into place together at
     // the end: a late failure (a report into /proc, a full disk) leaves an existing output as it

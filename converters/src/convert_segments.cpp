@@ -374,7 +374,7 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     const size_t n = fronts.size();
     std::vector<size_t> at(n, 0);
     // Patches beyond each region's first point, in units of `unit` patches (rounded up,
-    // segmentOptions that what is chosen always fits); `room` is what the total leaves for them.
+    // so that what is chosen always fits); `room` is what the total leaves for them.
     long first = 0, most = 0;
     for (const auto& f : fronts) {
         first += std::lround(f.front().patches);
@@ -389,7 +389,7 @@ std::vector<size_t> allotPatches(const std::vector<std::vector<RdPoint>>& fronts
     auto unitsOf = [unit](const std::vector<RdPoint>& f, size_t i) {
         return (std::lround(f[i].patches - f.front().patches) + unit - 1) / unit;
     };
-    // best[t]: the least summed error of the regions segmentOptions far with at most t units beyond
+    // best[t]: the least summed error of the regions so far with at most t units beyond
     // their first points; pick[k][t]: region k's point there.
     const double inf = std::numeric_limits<double>::infinity();
     std::vector<double> best(static_cast<size_t>(cells), 0.0), next(best.size());
@@ -460,7 +460,7 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
 }
 
 // Converts regions of a whole image, several at once. Regions are drawn in their order
-// (largest first): a region reaches under the later ones only, segmentOptions each pixel keeps the
+// (largest first): a region reaches under the later ones only, so each pixel keeps the
 // colour of its own region and seams show the region beneath.
 class RegionConverter {
 public:
@@ -503,8 +503,10 @@ public:
     bool isFlat(size_t k) const { return flat_[k].flat; }
 
     // Converts region jobs[w].first with patch budget jobs[w].second into outcomes[w], the
-    // jobs in parallel. With --total-patches a region converted at several budgets computes
-    // its maps once, and each outcome's spill is measured.
+    // jobs in parallel. A flat region is a flat shape (a mesh when its outline cannot be
+    // traced); budget 0 for a shaded one asks for it as a flat shape all the same (Failed when
+    // its outline cannot be traced). With --total-patches a region converted at several
+    // budgets computes its maps once, and each outcome's spill is measured.
     void run(const std::vector<std::pair<size_t, int>>& jobs,
              std::vector<RegionOutcome>& outcomes) {
         outcomes.resize(jobs.size());
@@ -514,15 +516,19 @@ public:
         reportProgress(options_.convert, "regions", 0, total);
         parallelFor(total, workers_, [&](int job, int) {
             const size_t w = static_cast<size_t>(job);
-            ConvertOptions convertOptions = convert_;
-            convertOptions.maxPatches = jobs[w].second > 0 ? jobs[w].second : convert_.maxPatches;
             const size_t k = jobs[w].first;
-            if (isFlat(k) && (outcomes[w] = flatOutcome(k)).converted()) return;
-            outcomes[w] = convertSegmentRegion(image_, regions_[k], drawnLater(k), convertOptions,
-                                               options_, 0, budgeted ? &caches_[k] : nullptr);
-            if (budgeted && outcomes[w].converted())
-                outcomes[w].spill =
-                    spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
+            const bool flatAnyway = jobs[w].second == 0 && !isFlat(k);
+            if (isFlat(k) || flatAnyway) outcomes[w] = flatOutcome(k);
+            if (!flatAnyway && !outcomes[w].converted()) {
+                ConvertOptions convertOptions = convert_;
+                convertOptions.maxPatches = jobs[w].second > 0 ? jobs[w].second : convert_.maxPatches;
+                outcomes[w] =
+                    convertSegmentRegion(image_, regions_[k], drawnLater(k), convertOptions,
+                                         options_, 0, budgeted ? &caches_[k] : nullptr);
+                if (budgeted && outcomes[w].converted())
+                    outcomes[w].spill =
+                        spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
+            }
             reportProgress(options_.convert, "regions", ++done, total);
         });
     }
@@ -597,10 +603,11 @@ std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
                              double(regions[k].pixelCount) / double(std::max(1L, pixels));
         const double floor = options.topBudgetShare * options.totalPatches / double(n);
         const double want = std::max(share, floor);
-        if (converter.isFlat(k)) {
-            jobs.push_back({k, 0});  // one flat shape, no patches
-            continue;
-        }
+        // A flat shape, no patches: the region's colour alone, for a flat one; for a shaded
+        // one, the first rung of its ladder.
+        const bool flatRung = options.flatRungs && options.flatShapes;
+        if (converter.isFlat(k) || flatRung) jobs.push_back({k, 0});
+        if (converter.isFlat(k)) continue;
         for (int i = 0;; ++i) {
             const int b = std::min(budgetRung(i), converter.maxPatches());
             jobs.push_back({k, b});

@@ -8,6 +8,7 @@
 
 #include "converters/convert_segments.h"
 #include "formats/raster.h"
+#include "formats/svg.h"
 #include "meshcore/error.h"
 #include "meshcore/render.h"
 
@@ -376,7 +377,8 @@ TEST_CASE("with a whole-image patch budget the busy region gets the patches and 
     CHECK(box.pixels > 5000);
     CHECK(box.pixels < 9000);
     CHECK(1000.0 * box.patches / box.pixels > 4 * calmest);
-    CHECK(doc.meshes.size() >= rep.convert.regions.size() + 1);
+    // Every region drawn, as a mesh or (the ladder's first rung) a flat shape, over the base.
+    CHECK(doc.meshes.size() + doc.shapes.size() >= rep.convert.regions.size() + 1);
 }
 
 TEST_CASE("a larger whole-image patch budget never raises the regions' summed error and spill",
@@ -463,4 +465,32 @@ TEST_CASE("a photograph is segmented finer where the budget allows; drawings are
                          SegmentConvertOptions{}, name, &drawing);
         CHECK(drawing.finerSegments == 0);
     }
+}
+
+TEST_CASE("under a small whole-image budget, the regions a mesh helps least are drawn flat",
+          "[convert][segment][budget]") {
+    // smarties.png at 100 patches: each of its sweets' meshes starts at 4 patches, so the
+    // ladders' first rungs alone used to exceed the total (263 patches). Drawn flat, the
+    // sweets that gain least from a mesh leave the patches to the others.
+    const RgbaImage photo = readImage(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    SegmentConvertOptions o;
+    o.convert.maxError = 2;
+    o.totalPatches = 100;
+    SegmentConvertReport rungs, meshesOnly;
+    const Document withRungs = convertSegmented(photo, o, "smarties.png", &rungs);
+    o.flatRungs = false;
+    const Document without = convertSegmented(photo, o, "smarties.png", &meshesOnly);
+    WriteOptions write;
+    write.svgScript = "none";
+    const size_t bytes = encodeSvg(withRungs, write).size();
+    const size_t bytesWithout = encodeSvg(without, write).size();
+    WARN("smarties at 100 patches: " << rungs.convert.patches << " patches, "
+         << rungs.flatRegions << " flat, " << bytes << " B, PSNR " << rungs.convert.error.psnr
+         << " dB; meshes only " << meshesOnly.convert.patches << " patches, " << bytesWithout
+         << " B, " << meshesOnly.convert.error.psnr << " dB");
+    CHECK(meshesOnly.flatRegions == 0);
+    CHECK(rungs.flatRegions > 0);
+    CHECK(rungs.convert.patches - rungs.basePatches <= 100);
+    CHECK(rungs.convert.error.psnr > meshesOnly.convert.error.psnr + 0.2);
+    CHECK(bytes * 2 < bytesWithout);
 }

@@ -72,6 +72,10 @@ struct SegmentConvertOptions {
     // rises with the total. --max-error still stops each region.
     int totalPatches = 0;
     double topBudgetShare = 2;
+    // ... and with flatShapes, a shaded region's ladder starts with the region as a flat shape
+    // of its colour (no patches): where the total is too small for every region's mesh, the
+    // allotment draws the regions that gain least from a mesh flat, as a tracer would.
+    bool flatRungs = true;
     // Regions of one colour (fitFlatColour against convert.maxError) become flat shapes
     // (Document::shapes) in their place in the drawing order instead of meshes.
     bool flatShapes = true;
