@@ -130,6 +130,11 @@ struct NumberSyntax {
     bool compact = false;
 };
 
+// Compact syntax: an edge's handles (relative to its start) are written to 1/10 px. A handle
+// moves its curve by at most 4/9 of its own displacement (the peak of 3t(1-t)^2), so by 0.023
+// px at most, and shared edges are written once, so neighbours still meet exactly.
+constexpr double kCompactHandleSteps = 10;
+
 // The points of one path command after its letter: " x,y x,y" (exact), or numbers separated
 // only where needed, "1.5 2-.3" (compact).
 void appendPoints(std::string& out, const Vec2* begin, const Vec2* end, const NumberSyntax& syntax);
@@ -145,6 +150,13 @@ void appendPair(std::string& out, Vec2 d) {
 
 Vec2 printed(Vec2 d, int decimals = kSvgDecimalsExact) {
     return {svgPrintedValue(d.x, decimals), svgPrintedValue(d.y, decimals)};
+}
+
+// A handle's offset from its edge's start as written (and read back).
+Vec2 handleOffset(Vec2 d, const NumberSyntax& syntax) {
+    if (!syntax.compact) return printed(d, syntax.decimals);
+    const double q = kCompactHandleSteps;
+    return printed({std::round(d.x * q) / q, std::round(d.y * q) / q}, syntax.decimals);
 }
 
 void appendPoints(std::string& out, const Vec2* begin, const Vec2* end, const NumberSyntax& syntax) {
@@ -203,10 +215,11 @@ Vec2 appendStop(std::string& out, Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool c
         if (!closing) appendPoints(out, {d}, syntax);
     } else {
         out += 'c';
+        const Vec2 a = handleOffset(h1 - start, syntax), b = handleOffset(h2 - start, syntax);
         if (closing)
-            appendPoints(out, {h1 - start, h2 - start}, syntax);
+            appendPoints(out, {a, b}, syntax);
         else
-            appendPoints(out, {h1 - start, h2 - start, d}, syntax);
+            appendPoints(out, {a, b, d}, syntax);
     }
     out += '"';
     if (color) {
@@ -304,14 +317,14 @@ private:
         q[3][0] = c30;
         q[3][3] = c33;
         q[0][3] = c03;
-        q[1][0] = c00 + printed(g.H(c, r)[0] - c00, dec);
-        q[2][0] = c00 + printed(g.H(c, r)[1] - c00, dec);
-        q[3][1] = c30 + printed(g.V(c + 1, r)[0] - c30, dec);
-        q[3][2] = c30 + printed(g.V(c + 1, r)[1] - c30, dec);
-        q[2][3] = c33 + printed(g.H(c, r + 1)[1] - c33, dec);
-        q[1][3] = c33 + printed(g.H(c, r + 1)[0] - c33, dec);
-        q[0][2] = c03 + printed(g.V(c, r)[1] - c03, dec);
-        q[0][1] = c03 + printed(g.V(c, r)[0] - c03, dec);
+        q[1][0] = c00 + handleOffset(g.H(c, r)[0] - c00, syntax_);
+        q[2][0] = c00 + handleOffset(g.H(c, r)[1] - c00, syntax_);
+        q[3][1] = c30 + handleOffset(g.V(c + 1, r)[0] - c30, syntax_);
+        q[3][2] = c30 + handleOffset(g.V(c + 1, r)[1] - c30, syntax_);
+        q[2][3] = c33 + handleOffset(g.H(c, r + 1)[1] - c33, syntax_);
+        q[1][3] = c33 + handleOffset(g.H(c, r + 1)[0] - c33, syntax_);
+        q[0][2] = c03 + handleOffset(g.V(c, r)[1] - c03, syntax_);
+        q[0][1] = c03 + handleOffset(g.V(c, r)[0] - c03, syntax_);
         const auto& t = g.tensor[g.patchIndex(c, r)];
         const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
                                coonsInterior(q, true, true), coonsInterior(q, false, true)};
