@@ -541,6 +541,10 @@ private:
         const Region& own = regions_[k];
         try {
             FlatOptions flatOptions = options_.flat;
+            const double coarser =
+                std::max(1.0, options_.convert.maxError / flatOptions.toleranceError);
+            flatOptions.curveTolerance *= coarser;
+            flatOptions.inkCurveTolerance *= coarser;
             if (k >= firstInk_) {
                 flatOptions.curveTolerance = flatOptions.inkCurveTolerance;
                 flatOptions.outlineSmoothing = flatOptions.inkOutlineSmoothing;

@@ -122,3 +122,29 @@ TEST_CASE("a flat drawing converts into flat shapes and a far smaller SVG", "[fl
     CHECK(withFlat.convert.error.meanAbs <= withoutFlat.convert.error.meanAbs + 0.3);
     CHECK(withFlat.convert.error.meanAbs <= 1.5);
 }
+
+TEST_CASE("a drawing of flat shapes holds no mesh, and its outlines coarsen with the target",
+          "[flat][convert]") {
+    // thin_lines.png: lines and rings 2-4 px wide on three flat panels. Every region is flat,
+    // so the first panel is the backdrop and there is no mesh (nor mesh script); a coarser
+    // --max-error loosens the outlines' fit.
+    const RgbaImage drawing = readImage(std::string(GRADMESH_SAMPLES) + "/thin_lines.png");
+    WriteOptions write;
+    SegmentConvertOptions options;
+    SegmentConvertReport fine, coarse;
+    const Document fineDoc = convertSegmented(drawing, options, "thin_lines", &fine);
+    const std::string fineSvg = encodeSvg(fineDoc, write);
+    options.convert.maxError = 8;
+    const size_t coarseBytes =
+        encodeSvg(convertSegmented(drawing, options, "thin_lines", &coarse), write).size();
+    WARN("thin_lines: E 3: " << fineSvg.size() << " B, PSNR " << fine.convert.error.psnr
+                             << " dB; E 8: " << coarseBytes << " B, "
+                             << coarse.convert.error.psnr << " dB");
+    CHECK(fine.flatBackdrop);
+    CHECK(fineDoc.meshes.empty());
+    CHECK(fineSvg.find("<script") == std::string::npos);
+    CHECK(fineSvg.size() < 16000);
+    CHECK(fine.convert.error.psnr > 35);
+    CHECK(coarseBytes < fineSvg.size() * 0.85);
+    CHECK(coarse.convert.error.meanAbs < 2);
+}

@@ -39,6 +39,9 @@ struct FlatOptions {
     double outlierError = 4;
     double curveTolerance = 0.5;    // pixels: the Bézier outline against the traced loop
     double inkCurveTolerance = 0.15;  // ... for an ink line, whose width is a pixel or two
+    // Both hold for error targets up to toleranceError (0-255 units) and grow in proportion
+    // above it: a coarser target asks for coarser outlines too (convertSegmented).
+    double toleranceError = 3;
     // Where the outline lies, each border pixel is read as a blend of the shape's colour with
     // the colour around it furthest from it; with blendEachSide (ink lines, which part two
     // regions), with the one around it that explains it best.
