@@ -85,6 +85,37 @@ TEST_CASE("svg writer uses the 4/3/3/2 stop structure", "[svg]") {
     CHECK(svg.find("gradientUnits=\"userSpaceOnUse\"") != std::string::npos);
 }
 
+TEST_CASE("nearly straight edges inside a mesh are written as lines, its boundary as drawn",
+          "[svg]") {
+    // A 4x3 grid of 20 px patches, every edge bowed by 0.2 px: inside, lines (the curve moves
+    // 0.09 px); on the boundary, which the outline path draws too, cubics.
+    const int C = 4, R = 3;
+    Document doc;
+    doc.width = 100;
+    doc.height = 80;
+    GradientMesh mesh(C, R);
+    for (int j = 0; j <= R; ++j)
+        for (int i = 0; i <= C; ++i) {
+            Node& n = mesh.node(i, j);
+            n.pos = {10.0 + 20 * i, 10.0 + 20 * j};
+            n.posU = {20, 0.6};  // handles 0.2 px off the chord
+            n.posV = {0.6, 20};
+            n.col = {0.1 * i, 0.2 * j, 0.5};
+        }
+    doc.meshes.push_back(mesh);
+    const std::string svg = encodeSvg(doc, editable());
+    const size_t inner = size_t(C * (R - 1) + (C - 1) * R), boundary = size_t(2 * C + 2 * R);
+    CHECK(countOf(svg, "path=\"l") == inner);
+    CHECK(countOf(svg, "path=\"c") == boundary);
+    // Read back: corners where they were, handles within 0.2 px of the mesh's.
+    const Document back = decodeSvg(svg, ReadLimits{});
+    REQUIRE(back.meshes.size() == 1);
+    double corner = 0;
+    for (size_t k = 0; k < mesh.nodes.size(); ++k)
+        corner = std::max(corner, maxDistance(mesh.nodes[k].pos, back.meshes[0].nodes[k].pos));
+    CHECK(corner <= 0.005 + 1e-9);
+}
+
 TEST_CASE("svg numbers keep 1/100 px without accumulating along a row", "[svg]") {
     // A long row of patches far from the origin: relative offsets are written against the
     // reader's reconstructed corners, so the error stays at the rounding step.

@@ -134,6 +134,10 @@ struct NumberSyntax {
 // moves its curve by at most 4/9 of its own displacement (the peak of 3t(1-t)^2), so by 0.023
 // px at most, and shared edges are written once, so neighbours still meet exactly.
 constexpr double kCompactHandleSteps = 10;
+// ... and an edge inside a mesh whose handles lie within this many px of its chord's thirds is
+// written as a line: its curve moves by 4/9 of that at most (0.22 px), and a line costs a third
+// of the numbers. Not on a mesh's boundary, which its outline path draws with its own handles.
+constexpr double kCompactInnerLineTolerance = 0.5;
 
 // The points of one path command after its letter: " x,y x,y" (exact), or numbers separated
 // only where needed, "1.5 2-.3" (compact).
@@ -198,16 +202,20 @@ bool nearlyEqual(Vec2 a, Vec2 b, double tol) {
     return std::fabs(a.x - b.x) <= tol && std::fabs(a.y - b.y) <= tol;
 }
 
-// One <stop>: an edge from `start` (where the reader stands) through handles h1, h2 to `end`.
-// Writes offsets relative to `start` as the reader will have reconstructed it, so rounding
-// never accumulates along the grid; returns the end point the reader reconstructs.
-Vec2 appendStop(std::string& out, Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool closing,
-                const Vec3* color, const NumberSyntax& syntax) {
-    out += "<stop path=\"";
+// Whether an edge from `start` to `end` is written as a line: its handles within
+// `lineTolerance` of the chord's thirds.
+bool writtenAsLine(Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, double lineTolerance) {
     const Vec2 chord = end - start;
-    const double tol = syntax.compact ? 0.5 / svgStepsPerUnit(syntax.decimals) : 1e-6;
-    const bool line = nearlyEqual(h1, start + (1.0 / 3) * chord, tol) &&
-                      nearlyEqual(h2, start + (2.0 / 3) * chord, tol);
+    return nearlyEqual(h1, start + (1.0 / 3) * chord, lineTolerance) &&
+           nearlyEqual(h2, start + (2.0 / 3) * chord, lineTolerance);
+}
+
+// One <stop>: an edge from `start` (where the reader stands) through handles h1, h2 to `end`,
+// or a line. Writes offsets relative to `start` as the reader will have reconstructed it, so
+// rounding never accumulates along the grid; returns the end point the reader reconstructs.
+Vec2 appendStop(std::string& out, Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool closing,
+                const Vec3* color, const NumberSyntax& syntax, bool line) {
+    out += "<stop path=\"";
     const Vec2 d = end - start;
     const Vec2 reached = closing ? end : start + printed(d, syntax.decimals);
     if (line) {
@@ -276,28 +284,46 @@ public:
 private:
     Vec2& R(int c, int r) { return rec_[static_cast<size_t>(r) * (g_.columns + 1) + c]; }
 
+    // Whether the grid's edges are written as lines: their handles within a tolerance of their
+    // chord's thirds, the rounding step alone on the mesh's boundary. Decided on the grid's
+    // own points, so that the patch that writes an edge and the one that reads it agree.
+    double lineTolerance(bool boundary) const {
+        if (!syntax_.compact) return 1e-6;
+        return boundary ? 0.5 / svgStepsPerUnit(dec_) : kCompactInnerLineTolerance;
+    }
+    bool hLine(int c, int r) const {  // from P(c,r) to P(c+1,r)
+        return writtenAsLine(g_.P(c, r), g_.H(c, r)[0], g_.H(c, r)[1], g_.P(c + 1, r),
+                             lineTolerance(r == 0 || r == g_.rows));
+    }
+    bool vLine(int c, int r) const {  // from P(c,r) to P(c,r+1)
+        return writtenAsLine(g_.P(c, r), g_.V(c, r)[0], g_.V(c, r)[1], g_.P(c, r + 1),
+                             lineTolerance(c == 0 || c == g_.columns));
+    }
+
     void patch(int c, int r) {
         const SvgPatchGrid& g = g_;
         stops_.clear();
         if (r == 0) {  // top, from (c,0) to (c+1,0)
             const auto& h = g.H(c, 0);
             R(c + 1, 0) = appendStop(stops_, R(c, 0), h[0], h[1], g.P(c + 1, 0), false,
-                                     c == 0 ? &g.C(c, 0) : nullptr, syntax_);
+                                     c == 0 ? &g.C(c, 0) : nullptr, syntax_, hLine(c, 0));
         }
         {  // right, from (c+1,r) to (c+1,r+1)
             const auto& h = g.V(c + 1, r);
-            R(c + 1, r + 1) = appendStop(stops_, R(c + 1, r), h[0], h[1], g.P(c + 1, r + 1), false,
-                                         r == 0 ? &g.C(c + 1, r) : nullptr, syntax_);
+            R(c + 1, r + 1) =
+                appendStop(stops_, R(c + 1, r), h[0], h[1], g.P(c + 1, r + 1), false,
+                           r == 0 ? &g.C(c + 1, r) : nullptr, syntax_, vLine(c + 1, r));
         }
         {  // bottom, from (c+1,r+1) to (c,r+1); closes the patch unless c == 0
             const auto& h = g.H(c, r + 1);
             const Vec2 e = appendStop(stops_, R(c + 1, r + 1), h[1], h[0], g.P(c, r + 1), c > 0,
-                                      &g.C(c + 1, r + 1), syntax_);
+                                      &g.C(c + 1, r + 1), syntax_, hLine(c, r + 1));
             if (c == 0) R(0, r + 1) = e;
         }
         if (c == 0) {  // left, from (0,r+1) to (0,r): always closing
             const auto& h = g.V(0, r);
-            appendStop(stops_, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1), syntax_);
+            appendStop(stops_, R(0, r + 1), h[1], h[0], g.P(0, r), true, &g.C(0, r + 1), syntax_,
+                       vLine(0, r));
         }
         out_ += "<meshpatch";
         if (g.tensorSet[g.patchIndex(c, r)]) tensor(c, r);
@@ -317,14 +343,20 @@ private:
         q[3][0] = c30;
         q[3][3] = c33;
         q[0][3] = c03;
-        q[1][0] = c00 + handleOffset(g.H(c, r)[0] - c00, syntax_);
-        q[2][0] = c00 + handleOffset(g.H(c, r)[1] - c00, syntax_);
-        q[3][1] = c30 + handleOffset(g.V(c + 1, r)[0] - c30, syntax_);
-        q[3][2] = c30 + handleOffset(g.V(c + 1, r)[1] - c30, syntax_);
-        q[2][3] = c33 + handleOffset(g.H(c, r + 1)[1] - c33, syntax_);
-        q[1][3] = c33 + handleOffset(g.H(c, r + 1)[0] - c33, syntax_);
-        q[0][2] = c03 + handleOffset(g.V(c, r)[1] - c03, syntax_);
-        q[0][1] = c03 + handleOffset(g.V(c, r)[0] - c03, syntax_);
+        // Each edge's handles as the reader gets them, from the corner it was written from.
+        const auto asRead = [&](Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool line, Vec2& a,
+                                Vec2& b) {
+            if (line) {
+                a = start + (1.0 / 3) * (end - start), b = start + (2.0 / 3) * (end - start);
+            } else {
+                a = start + handleOffset(h1 - start, syntax_);
+                b = start + handleOffset(h2 - start, syntax_);
+            }
+        };
+        asRead(c00, g.H(c, r)[0], g.H(c, r)[1], c30, hLine(c, r), q[1][0], q[2][0]);
+        asRead(c30, g.V(c + 1, r)[0], g.V(c + 1, r)[1], c33, vLine(c + 1, r), q[3][1], q[3][2]);
+        asRead(c33, g.H(c, r + 1)[1], g.H(c, r + 1)[0], c03, hLine(c, r + 1), q[2][3], q[1][3]);
+        asRead(c03, g.V(c, r)[1], g.V(c, r)[0], c00, vLine(c, r), q[0][2], q[0][1]);
         const auto& t = g.tensor[g.patchIndex(c, r)];
         const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
                                coonsInterior(q, true, true), coonsInterior(q, false, true)};
