@@ -331,9 +331,10 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// A C×R mesh of straight patches over the whole canvas, colours fitted to every pixel in the
-// conversion's colour mode.
-GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, ColorMode mode) {
+// A C×R mesh of straight patches over the whole canvas, colours fitted in the conversion's
+// colour mode to the pixels `showing` marks (every pixel when it marks none).
+GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, ColorMode mode,
+                      const std::vector<uint8_t>& showing) {
     const int C = std::max(1, static_cast<int>(std::lround(image.width / patchSize)));
     const int R = std::max(1, static_cast<int>(std::lround(image.height / patchSize)));
     GradientMesh m(C, R);
@@ -345,15 +346,35 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, Col
             n.posU = {du, 0};
             n.posV = {0, dv};
         }
-    Region all;
-    all.width = image.width;
-    all.height = image.height;
-    all.mask.assign(static_cast<size_t>(image.width) * image.height, 1);
-    all.pixelCount = image.width * image.height;
+    Region fitted;
+    fitted.width = image.width;
+    fitted.height = image.height;
+    fitted.pixelCount = static_cast<int>(std::count(showing.begin(), showing.end(), 1));
+    fitted.mask = showing;
+    if (fitted.pixelCount == 0) {
+        fitted.mask.assign(static_cast<size_t>(image.width) * image.height, 1);
+        fitted.pixelCount = image.width * image.height;
+    }
     ColorOptions colorOptions;
     colorOptions.threads = threads;
     colorOptions.mode = mode;
-    return computeColors(m, image, all, colorOptions).mesh;
+    return computeColors(m, image, fitted, colorOptions).mesh;
+}
+
+// Per pixel, whether `drawn` (the regions' meshes and shapes, without the base) leaves some of
+// it showing; and the share of such pixels as compareOverMask counts them.
+std::vector<uint8_t> pixelsShowing(const Document& drawn, const RgbaImage& image,
+                                   double& uncovered) {
+    const size_t n = static_cast<size_t>(image.width) * image.height;
+    if (drawn.meshes.empty() && drawn.shapes.empty()) {
+        uncovered = 1;
+        return std::vector<uint8_t>(n, 1);
+    }
+    const RgbaImage render = renderDocument(drawn, RenderOptions{}).image;
+    uncovered = compareOverMask(image, render, std::vector<uint8_t>(n, 1)).uncovered;
+    std::vector<uint8_t> showing(n, 0);
+    for (size_t k = 0; k < n; ++k) showing[k] = render.pixels[4 * k + 3] < 0.999f;
+    return showing;
 }
 }  // namespace
 
@@ -656,7 +677,10 @@ std::vector<RegionOutcome> convertWithinTotal(RegionConverter& converter,
 }
 
 // The document: the base mesh (coarse when every region converted), then every region's
-// meshes in drawing order; the regions' reports and fates counted into segmentReport.
+// meshes in drawing order; the regions' reports and fates counted into segmentReport. The base
+// is fitted to the pixels the regions leave showing: fitted to all, its few patches take their
+// colours from the whole image, and where a region's mesh leaves a corner of the canvas bare
+// they paint it in colours from elsewhere.
 Document assembleDocument(const RgbaImage& image, const std::vector<Region>& regions,
                           std::vector<RegionOutcome>& outcomes,
                           const SegmentConvertOptions& options,
@@ -665,14 +689,8 @@ Document assembleDocument(const RgbaImage& image, const std::vector<Region>& reg
     Document doc;
     doc.width = image.width;
     doc.height = image.height;
-    const auto t0 = Clock::now();
     const bool anyFailed = std::any_of(outcomes.begin(), outcomes.end(),
                                        [](const RegionOutcome& o) { return !o.converted(); });
-    GradientMesh base = baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
-                                 options.convert.threads, options.convert.colors);
-    const double baseSeconds = since(t0);
-    segmentReport.basePatches = base.patchCount();
-    doc.meshes.push_back(std::move(base));
     for (size_t k = 0; k < regions.size(); ++k) {
         RegionOutcome& o = outcomes[k];
         if (o.converted())
@@ -692,27 +710,34 @@ Document assembleDocument(const RgbaImage& image, const std::vector<Region>& reg
         segmentReport.fallbacks.push_back(std::move(o.fallback));
         convertReport.regions.push_back(std::move(o.report));
     }
+    const auto t0 = Clock::now();
+    const std::vector<uint8_t> showing =
+        pixelsShowing(doc, image, segmentReport.regionUncovered);
     // A drawing of flat shapes only: the region drawn first, beneath all the others, becomes
     // a backdrop over the whole canvas (an outline of four lines rather than one around every
     // other region), in place of the base mesh, so that the file holds no mesh at all.
-    if (!anyFailed && doc.meshes.size() == 1 && !doc.shapes.empty() &&
+    if (!anyFailed && doc.meshes.empty() && !doc.shapes.empty() &&
         outcomes.front().fate == RegionFate::Flat) {
-        doc.meshes.clear();
         const size_t firstShapes = outcomes.front().shapes.size();
         const Vec3 col = doc.shapes.front().col;
         doc.shapes.erase(doc.shapes.begin(), doc.shapes.begin() + static_cast<long>(firstShapes));
-        for (FlatShape& shape : doc.shapes) shape.layer = 0;
         doc.shapes.insert(doc.shapes.begin(), canvasRectangle(image.width, image.height, col));
-        segmentReport.basePatches = 0;
         segmentReport.flatBackdrop = true;
+    } else {
+        GradientMesh base =
+            baseMesh(image, anyFailed ? options.basePatchSize : options.coarseBasePatchSize,
+                     options.convert.threads, options.convert.colors, showing);
+        segmentReport.basePatches = base.patchCount();
+        doc.meshes.insert(doc.meshes.begin(), std::move(base));
+        for (FlatShape& shape : doc.shapes) ++shape.layer;
     }
-    convertReport.seconds.mesh += baseSeconds;
+    convertReport.seconds.mesh += since(t0);
     convertReport.patches += segmentReport.basePatches;
     return doc;
 }
 
-// The error over every pixel, at region borders and inside, and the pixels no region mesh
-// covers (the document without its base mesh).
+// The error over every pixel, at region borders and inside (the pixels no region covers are
+// counted by assembleDocument).
 void measureSegmented(const Document& doc, const RgbaImage& image, const std::vector<int>& labels,
                       SegmentConvertReport& segmentReport) {
     const RenderResult full = renderDocument(doc, RenderOptions{});
@@ -730,19 +755,6 @@ void measureSegmented(const Document& doc, const RgbaImage& image, const std::ve
     segmentReport.convert.error = compareOverMask(image, full.image, all);
     segmentReport.border = compareOverMask(image, full.image, border);
     segmentReport.interior = compareOverMask(image, full.image, inner);
-    Document regionsOnly = doc;
-    if (segmentReport.flatBackdrop) {
-        regionsOnly.shapes.erase(regionsOnly.shapes.begin());
-    } else {
-        regionsOnly.meshes.erase(regionsOnly.meshes.begin());
-        for (FlatShape& shape : regionsOnly.shapes)
-            shape.layer = std::max<size_t>(1, shape.layer) - 1;
-    }
-    segmentReport.regionUncovered =
-        regionsOnly.meshes.empty() && regionsOnly.shapes.empty()
-            ? 1.0
-            : compareOverMask(image, renderDocument(regionsOnly, RenderOptions{}).image, all)
-                  .uncovered;
 }
 
 // Whether to segment again towards options.shadedSegments (SegmentConvertOptions): the count

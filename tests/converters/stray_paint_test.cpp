@@ -77,3 +77,25 @@ TEST_CASE("small objects on a flat background paint nothing beyond themselves",
     CHECK(stray == 0);
     CHECK(insideError / insidePixels < 10);
 }
+
+TEST_CASE("under a small budget the base paints what the regions leave bare in its own colours",
+          "[convert][segment][budget]") {
+    // smarties.png at 300 patches: the white table's mesh cuts across the bottom right corner,
+    // and the base mesh beneath, fitted to every pixel, painted that corner cyan (1,886 stray
+    // pixels). Fitted to the pixels the regions leave showing, it paints it white.
+    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    SegmentConvertOptions options;
+    options.convert.maxError = 2;
+    options.totalPatches = 300;
+    SegmentConvertReport report;
+    const Document doc = convertSegmented(image, options, "smarties.png", &report);
+    const RgbaImage render = renderDocument(doc, RenderOptions{}).image;
+    writeImage(render, std::string(GRADMESH_TMP) + "/stray_paint_smarties_300.png");
+    const long stray = gm::test::strayPixels(image, render);
+    INFO("base " << report.basePatches << " patches, " << report.regionUncovered
+                 << " of the pixels left to it; stray " << stray << ", PSNR "
+                 << report.convert.error.psnr);
+    CHECK(report.regionUncovered > 0.005);  // the corner is the base's
+    CHECK(stray < 200);
+    CHECK(report.convert.error.psnr > 28);
+}
