@@ -362,7 +362,8 @@ GradientMesh baseMesh(const RgbaImage& image, double patchSize, int threads, Col
 }
 
 // Per pixel, whether `drawn` (the regions' meshes and shapes, without the base) leaves some of
-// it showing; and the share of such pixels as compareOverMask counts them.
+// it showing; and the share of pixels it leaves mostly bare (covered under one half, as
+// compareOverMask counts them uncovered).
 std::vector<uint8_t> pixelsShowing(const Document& drawn, const RgbaImage& image,
                                    double& uncovered) {
     const size_t n = static_cast<size_t>(image.width) * image.height;
@@ -371,9 +372,14 @@ std::vector<uint8_t> pixelsShowing(const Document& drawn, const RgbaImage& image
         return std::vector<uint8_t>(n, 1);
     }
     const RgbaImage render = renderDocument(drawn, RenderOptions{}).image;
-    uncovered = compareOverMask(image, render, std::vector<uint8_t>(n, 1)).uncovered;
     std::vector<uint8_t> showing(n, 0);
-    for (size_t k = 0; k < n; ++k) showing[k] = render.pixels[4 * k + 3] < 0.999f;
+    long bare = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const float covered = render.pixels[4 * k + 3];
+        showing[k] = covered < 0.999f;
+        bare += covered < 0.5f;
+    }
+    uncovered = double(bare) / double(n);
     return showing;
 }
 }  // namespace

@@ -345,6 +345,9 @@ double turnAngle(Vec2 before, Vec2 after) {
     return std::acos(std::clamp(c, -1.0, 1.0));
 }
 
+// The index after k (step +1) or before it (-1) around a loop of m.
+size_t nextAround(size_t k, int step, size_t m) { return step > 0 ? (k + 1) % m : (k + m - 1) % m; }
+
 // The point `reach` pixels along the closed polygon from vertex k, forwards (step +1) or
 // backwards (-1).
 Vec2 pointAlong(const std::vector<Vec2>& poly, size_t k, double reach, int step) {
@@ -352,7 +355,7 @@ Vec2 pointAlong(const std::vector<Vec2>& poly, size_t k, double reach, int step)
     Vec2 p = poly[k];
     double left = reach;
     for (size_t walked = 0; walked < m; ++walked) {
-        k = (k + m + static_cast<size_t>(step + static_cast<int>(m))) % m;
+        k = nextAround(k, step, m);
         const double d = norm(poly[k] - p);
         if (d >= left) return p + (left / d) * (poly[k] - p);
         left -= d;
@@ -380,7 +383,7 @@ bool isSharpestNear(const std::vector<Vec2>& poly, const std::vector<double>& tu
         double walked = 0;
         size_t q = k;
         for (size_t count = 1; count < m; ++count) {
-            const size_t next = (q + m + static_cast<size_t>(step + static_cast<int>(m))) % m;
+            const size_t next = nextAround(q, step, m);
             walked += norm(poly[next] - poly[q]);
             q = next;
             if (walked > reach || q == k) break;
@@ -573,15 +576,9 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
 
 FlatShape canvasRectangle(int width, int height, const Vec3& col) {
     const double w = width, h = height;
-    const Vec2 corners[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
-    std::vector<Vec2> outline;
-    for (int k = 0; k < 4; ++k) {
-        const Vec2 a = corners[k], b = corners[(k + 1) % 4];
-        outline.insert(outline.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
-    }
     FlatShape rectangle;
     rectangle.col = col;
-    rectangle.subpaths = {outline};
+    rectangle.subpaths = {polygonAsCubics({{0, 0}, {w, 0}, {w, h}, {0, h}})};
     return rectangle;
 }
 

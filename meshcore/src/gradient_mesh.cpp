@@ -35,6 +35,15 @@ bool operator==(const FlatShape& a, const FlatShape& b) {
     return a.col == b.col && a.alpha == b.alpha && a.subpaths == b.subpaths && a.layer == b.layer;
 }
 
+std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon) {
+    std::vector<Vec2> path;
+    for (size_t k = 0; k < polygon.size(); ++k) {
+        const Vec2 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+        path.insert(path.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
+    }
+    return path;
+}
+
 bool operator==(const Document& a, const Document& b) {
     return a.width == b.width && a.height == b.height && a.meshes == b.meshes &&
            a.shapes == b.shapes;

@@ -110,12 +110,7 @@ std::vector<Vec2> circlePath(double cx, double cy, double r, bool reverse) {
 std::vector<Vec2> squarePath(double x0, double y0, double side, bool reverse) {
     std::vector<Vec2> corners = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
     if (reverse) std::swap(corners[1], corners[3]);
-    std::vector<Vec2> path;
-    for (int k = 0; k < 4; ++k) {
-        const Vec2 a = corners[static_cast<size_t>(k)], b = corners[static_cast<size_t>((k + 1) % 4)];
-        path.insert(path.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
-    }
-    return path;
+    return polygonAsCubics(corners);
 }
 
 }  // namespace

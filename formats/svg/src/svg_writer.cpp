@@ -517,17 +517,6 @@ std::vector<std::vector<Vec2>> seamBandPolygons(const SvgPatchGrid& g, int row,
     return polygons;
 }
 
-// A polygon as a cycle of cubics with their handles at the thirds of each side (FlatShape's
-// layout), which the compact path writer turns back into lines.
-std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon) {
-    std::vector<Vec2> path;
-    for (size_t k = 0; k < polygon.size(); ++k) {
-        const Vec2 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
-        path.insert(path.end(), {a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a)});
-    }
-    return path;
-}
-
 // The boundary of a grid as one cycle of its outer patch edges, in FlatShape's layout: along
 // the top row, down the right side, back along the bottom row, up the left side.
 std::vector<Vec2> gridBoundaryCubics(const SvgPatchGrid& g) {

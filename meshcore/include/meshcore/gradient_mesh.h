@@ -135,6 +135,9 @@ struct FlatShape {
 };
 bool operator==(const FlatShape& a, const FlatShape& b);
 
+// A closed polygon as a FlatShape subpath: one cubic per side, its handles at the side's thirds.
+std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon);
+
 // Several meshes on a canvas; painted in order. Flat shapes, when there are any, are painted in
 // their list order, each between the meshes its `layer` names (non-decreasing along the list).
 struct Document {
