@@ -109,7 +109,8 @@ const char* const kConvertHelp =
     "                          (default: scaled to the image)\n"
     "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
     "                          out where it lowers the error most (each region converted at\n"
-    "                          several budgets; --max-error still stops each region)\n"
+    "                          several budgets; --max-error still stops each region);\n"
+    "                          0: every region one flat colour, no mesh (a flat trace)\n"
     "  --threads N             regions converted at once (default: all cores)\n"
     GRADMESH_COMMON_OPTIONS;
 

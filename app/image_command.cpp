@@ -224,7 +224,8 @@ ImageJob parseImageJob(const std::map<std::string, std::string>& values) {
     so.segment.segments = static_cast<int>(number(values, "--segments", 0, 1, 100000));
     so.segment.minRegion = static_cast<int>(number(values, "--min-region", 0, 1, 1e9));
     so.threads = static_cast<int>(number(values, "--threads", 0, 1, 1024));
-    so.totalPatches = static_cast<int>(number(values, "--total-patches", 0, 1, 1e8));
+    so.totalPatches = static_cast<int>(number(values, "--total-patches", 0, 0, 1e8));
+    so.flatOnly = values.count("--total-patches") && so.totalPatches == 0;
     co.threads = so.threads;
     if (!job.segment)
         for (const char* o : {"--segments", "--min-region", "--total-patches"})

@@ -34,8 +34,9 @@ IMAGES = ["fruits.jpg", "HappyFish.jpg", "astronaut.png", "smarties.png", "openc
           "detect_blob.png", "thin_lines.png"]
 # Our points: (--max-error, --total-patches or None). The error targets alone give the middle
 # and the top of our curve (3 alone is convert's default); whole-image budgets give its low end.
-OUR_POINTS = [(2, 100), (2, 300), (2, 1000), (2, 3000), (2, 6000), (2, 12000), (8, None),
-              (6, None), (4, None), (3, None), (2, None)]
+# Budget 0 draws every region flat (no mesh): the low end, where a tracer's small files lie.
+OUR_POINTS = [(20, 0), (8, 0), (3, 0), (2, 100), (2, 300), (2, 1000), (2, 3000), (2, 6000),
+              (2, 12000), (8, None), (6, None), (4, None), (3, None), (2, None)]
 DEFAULT_POINT = (3, None)
 TRACERS = [("vtracer", p) for p in ["coarse", "photo", "default", "detailed"]] + \
           [("imagetracer", p) for p in ["posterized2", "smoothed", "default", "detailed"]]
@@ -91,9 +92,10 @@ def score(image, svg, width, height):
 def our_points(image, stem, width, height):
     points = []
     for error, total in OUR_POINTS:
-        name = f"E {error}" + (f", {total} patches" if total else "")
-        gmb = os.path.join(OUT, f"{stem}_gm_e{error}" + (f"_t{total}" if total else "") + ".gmb")
-        budget = ["--total-patches", str(total)] if total else []
+        budgeted = total is not None
+        name = f"E {error}" + (f", {total} patches" if budgeted else "")
+        gmb = os.path.join(OUT, f"{stem}_gm_e{error}" + (f"_t{total}" if budgeted else "") + ".gmb")
+        budget = ["--total-patches", str(total)] if budgeted else []
         run([GM, "convert", image, "--segment", "--max-error", str(error), *budget, "-o", gmb])
         patches = int(run([GM, "info", gmb]).stdout.split("patches:")[1].split()[0])
         svg = gmb[:-4] + ".svg"

@@ -641,7 +641,7 @@ TEST_CASE("segment mode: bad option combinations are usage errors", "[cli_conver
                           Case{"--segments 5", "needs --segment"},
                           Case{"--min-region 100", "needs --segment"},
                           Case{"--total-patches 100", "needs --segment"},
-                          Case{"--segment --total-patches 0", "--total-patches"},
+                          Case{"--segment --total-patches -1", "--total-patches"},
                           Case{"--segment --segments 0", "--segments"},
                           Case{"--segment --threads 0", "--threads"}}) {
         INFO(c.args);
@@ -729,6 +729,20 @@ TEST_CASE("segment mode, compact level 6: the file's colours are refitted to its
          << ")");
     CHECK(rendered == Approx(psnr).margin(0.05));  // the PNG's 8-bit rounding
     CHECK(psnr > meshPsnr - 0.5);                   // level 6 cost 0.7 dB before the refit
+}
+
+TEST_CASE("segment mode at --total-patches 0 draws every region flat: no mesh, no script",
+          "[cli_convert][segment]") {
+    const fs::path d = tmpDir("segmentflat");
+    const std::string in = q(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    checkSuccess(gradmesh("convert " + in + " --segment --total-patches 0 -o " + q(d / "s.svg") +
+                              " --report " + q(d / "s.json"),
+                          d));
+    const std::string svg = slurp(d / "s.svg");
+    CHECK_THAT(svg, !Contains("<meshgradient"));
+    CHECK_THAT(svg, !Contains("<script"));
+    CHECK_THAT(svg, Contains("<path fill="));
+    CHECK_THAT(slurp(d / "s.json"), Contains("\"flat_backdrop\": true"));
 }
 
 TEST_CASE("ink lines are flat shapes, except in a compact file under a patch budget",

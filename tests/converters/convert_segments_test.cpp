@@ -496,3 +496,22 @@ TEST_CASE("under a small whole-image budget, the regions a mesh helps least are 
     CHECK(rungs.convert.error.psnr > meshesOnly.convert.error.psnr - 0.3);
     CHECK(bytes * 2 < bytesWithout);
 }
+
+TEST_CASE("with no patches at all, every region is a flat shape and the file holds no mesh",
+          "[convert][segment][budget]") {
+    // --total-patches 0, the low end of the curve: smarties.png posterized into its regions'
+    // colours, a few kilobytes of paths at about the PSNR of the 100-patch file.
+    const RgbaImage photo = readImage(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    SegmentConvertOptions o;
+    o.flatOnly = true;
+    SegmentConvertReport report;
+    const Document doc = convertSegmented(photo, o, "smarties.png", &report);
+    const size_t bytes = encodeSvg(doc, WriteOptions{}).size();
+    WARN("smarties flat: " << report.flatRegions << " regions, " << bytes << " B, PSNR "
+         << report.convert.error.psnr << " dB");
+    CHECK(doc.meshes.empty());
+    CHECK(report.flatBackdrop);
+    CHECK(report.flatRegions == static_cast<int>(doc.shapes.size()));
+    CHECK(report.convert.error.psnr > 24.5);
+    CHECK(bytes < 8000);
+}

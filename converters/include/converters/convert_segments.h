@@ -76,6 +76,10 @@ struct SegmentConvertOptions {
     // of its colour (no patches): where the total is too small for every region's mesh, the
     // allotment draws the regions that gain least from a mesh flat, as a tracer would.
     bool flatRungs = true;
+    // --total-patches 0: every region a flat shape of its fitted colour, no mesh (the image
+    // posterized into flat-colour paths, as a tracer draws it); a region whose outline cannot
+    // be traced is left to the base mesh. The curve's low end: no patches and no mesh script.
+    bool flatOnly = false;
     // Regions of one colour (fitFlatColour against convert.maxError) become flat shapes
     // (Document::shapes) in their place in the drawing order instead of meshes.
     bool flatShapes = true;
