@@ -775,9 +775,9 @@ bool wantsFinerSegments(const SegmentConvertOptions& options, const Segmentation
     if (options.shadedSegments <= 0 || options.segment.segments > 0 ||
         options.segment.threshold > 0 || !inkLooked || seg.inkLabels > 0 || regions.empty())
         return false;
-    if (options.flatOnly || (options.totalPatches > 0 && options.totalPatches <
-                                                          options.finerPatchesPerSegment *
-                                                              options.shadedSegments))
+    if (options.flatOnly) return false;
+    if (options.totalPatches > 0 &&
+        options.totalPatches < options.finerPatchesPerSegment * options.shadedSegments)
         return false;
     long shaded = 0;
     for (size_t k = 0; k < firstInk; ++k)
@@ -860,7 +860,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         outcomes = convertWithinTotal(*converter, regions, used, segmentReport);
     } else {
         std::vector<std::pair<size_t, int>> jobs;
-        const int budget = used.flatOnly ? 0 : converter->maxPatches();
+        const int budget = used.flatOnly && used.flatShapes ? 0 : converter->maxPatches();
         for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, budget});
         converter->run(jobs, outcomes);
     }

@@ -500,7 +500,7 @@ TEST_CASE("under a small whole-image budget, the regions a mesh helps least are 
 TEST_CASE("with no patches at all, every region is a flat shape and the file holds no mesh",
           "[convert][segment][budget]") {
     // --total-patches 0, the low end of the curve: smarties.png posterized into its regions'
-    // colours, a few kilobytes of paths at about the PSNR of the 100-patch file.
+    // colours, a few kilobytes of paths (the 100-patch file is eight times larger).
     const RgbaImage photo = readImage(std::string(GRADMESH_SAMPLES) + "/smarties.png");
     SegmentConvertOptions o;
     o.flatOnly = true;

@@ -79,6 +79,7 @@ struct SegmentConvertOptions {
     // --total-patches 0: every region a flat shape of its fitted colour, no mesh (the image
     // posterized into flat-colour paths, as a tracer draws it); a region whose outline cannot
     // be traced is left to the base mesh. The curve's low end: no patches and no mesh script.
+    // Like flatRungs, only with flatShapes (which fits the regions' colours).
     bool flatOnly = false;
     // Regions of one colour (fitFlatColour against convert.maxError) become flat shapes
     // (Document::shapes) in their place in the drawing order instead of meshes.
