@@ -14,6 +14,7 @@
 #include "formats/svg.h"
 #include "meshcore/error.h"
 #include "meshcore/validate.h"
+#include "svg_grid_outset.h"
 #include "svg_patch_grid.h"
 #include "svg_shapes.h"
 
@@ -660,6 +661,24 @@ FlatShape readFlatPath(const XMLElement* el, size_t layer, const XMLElement* roo
     return shape;
 }
 
+// Our writer grows a mesh beyond its outline path (svg_grid_outset.h) and says so in
+// data-outset; undone here, in the gradient's own space, so that the mesh read is the one
+// written. `outsetEl` and `heldEl` hold the attributes, or are null.
+void undoOutset(SvgPatchGrid& g, const XMLElement* outsetEl, const XMLElement* heldEl,
+                const Reader& rd) {
+    if (!outsetEl) return;
+    const double amount = rd.numberAttribute(outsetEl, "data-outset", 0);
+    if (!(amount >= 0 && amount <= kLargestOutset))
+        rd.fail("data-outset must lie between 0 and " + std::to_string(int(kLargestOutset)) + " px",
+                outsetEl);
+    HeldEdges held;
+    if (heldEl && !parseHeldEdges(heldEl->Attribute("data-outset-held"), g.columns, held))
+        rd.fail("data-outset-held must read like \"top 0-3 7 bottom 2\", with columns of the "
+                "mesh's " + std::to_string(g.columns),
+                heldEl);
+    insetGrid(g, amount, held);
+}
+
 // One use's mesh. Attributes come from the first gradient of the href chain that has them; the
 // rows from the first that has rows. `patches` counts the document's patches so far (each use
 // of a gradient is a copy of it).
@@ -702,6 +721,7 @@ GradientMesh readMeshUse(const MeshUse& use, const ElementIndex& index, const XM
     }
     SvgPatchGrid g = rd.grid(array, origin, limits);
     g.bicubic = bicubic;
+    undoOutset(g, attr("data-outset"), attr("data-outset-held"), rd);
     transformGrid(g, gradientToCanvas(use, attr("gradientTransform"), root, canvas.viewBoxShift, rd));
     // Each number is within maxCoordinate, but nested transforms multiply them.
     if (const double reach = largestCoordinate(g); !(reach <= SvgReadLimits::maxCoordinate)) {

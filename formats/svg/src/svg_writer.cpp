@@ -13,6 +13,7 @@
 #include "meshcore/split_legacy.h"
 #include "meshcore/validate.h"
 #include "svg_fallback_layer.h"
+#include "svg_grid_outset.h"
 #include "svg_number.h"
 #include "svg_shapes.h"
 #include "svg_script.h"
@@ -264,7 +265,8 @@ public:
           tensorTol_(syntax.compact ? kTensorTolerance : 1.5e-4),
           rec_(static_cast<size_t>(g.columns + 1) * (g.rows + 1)) {}
 
-    void write(const std::string& id, bool bicubic) {
+    // `attributes`: more attributes for the meshgradient element, each after a space.
+    void write(const std::string& id, bool bicubic, const std::string& attributes) {
         R(0, 0) = printed(g_.P(0, 0), dec_);
         out_ += "<meshgradient id=\"" + id + "\" gradientUnits=\"userSpaceOnUse\" x=\"";
         appendSvgNumber(out_, g_.P(0, 0).x, false, dec_);
@@ -272,6 +274,7 @@ public:
         appendSvgNumber(out_, g_.P(0, 0).y, false, dec_);
         out_ += '"';
         if (bicubic) out_ += " type=\"bicubic\"";
+        out_ += attributes;
         out_ += ">\n";
         for (int r = 0; r < g_.rows; ++r) {
             out_ += "<meshrow>\n";
@@ -383,9 +386,19 @@ private:
     std::string stops_;
 };
 
-void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::string& id,
-                        bool bicubic, const NumberSyntax& syntax) {
-    MeshGradientWriter(out, g, syntax).write(id, bicubic);
+// Writes `g` grown by kMeshOutset beyond its outline (svg_grid_outset.h), except along the
+// edges `held`, and marks the element so that readers can undo it.
+void appendMeshGradient(std::string& out, SvgPatchGrid g, const std::string& id, bool bicubic,
+                        const NumberSyntax& syntax, const HeldEdges& held) {
+    std::string attributes;
+    if (canOutsetGrid(g)) {
+        outsetGrid(g, kMeshOutset, held);
+        attributes += " data-outset=\"";
+        appendSvgNumber(attributes, kMeshOutset, false);
+        attributes += '"';
+        if (!held.empty()) attributes += " data-outset-held=\"" + heldEdgesText(held) + '"';
+    }
+    MeshGradientWriter(out, g, syntax).write(id, bicubic, attributes);
 }
 
 // Where a piece of a slit mesh meets the piece above or below it outside the holes: the patch
@@ -393,6 +406,22 @@ void appendMeshGradient(std::string& out, const SvgPatchGrid& g, const std::stri
 struct PieceSeams {
     std::vector<int> top, bottom;
 };
+
+// A piece's seams as the edges its grid must hold: the patch columns of the base grid, or of
+// the grid refined by `splits` (exact mode), where a base column becomes ku of them.
+HeldEdges heldSeams(const PieceSeams& seams, const ExactSplits* splits = nullptr) {
+    if (!splits) return {seams.top, seams.bottom};
+    std::vector<int> first{0};
+    for (int k : splits->ku) first.push_back(first.back() + k);
+    auto refine = [&](const std::vector<int>& columns) {
+        std::vector<int> fine;
+        for (int i : columns)
+            for (int f = first[static_cast<size_t>(i)]; f < first[static_cast<size_t>(i) + 1]; ++f)
+                fine.push_back(f);
+        return fine;
+    };
+    return {refine(seams.top), refine(seams.bottom)};
+}
 
 // Patch columns whose edge on grid row `row` of `mesh` lies outside every slit of that row.
 std::vector<int> seamColumns(const GradientMesh& mesh, int row) {
@@ -677,10 +706,10 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
         if (exact) {
             const SvgPatchGrid fine = refinedGrid(patches, piece.columns(), piece.rows(), splits[k]);
             local.maxSubdivision = std::max(local.maxSubdivision, splits[k].largest());
-            appendMeshGradient(out, fine, id, false, syntax);
+            appendMeshGradient(out, fine, id, false, syntax, heldSeams(p.seams, &splits[k]));
             local.svgPatches += fine.columns * int64_t(fine.rows);
         } else {
-            appendMeshGradient(out, base, id, true, syntax);
+            appendMeshGradient(out, base, id, true, syntax, heldSeams(p.seams));
             local.svgPatches += base.columns * int64_t(base.rows);
         }
         ++local.meshGradients;
