@@ -46,6 +46,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"ink_lines\": " << segmentation.inkLines
       << ", \"base_patches\": " << report.basePatches
       << ", \"flat_backdrop\": " << (report.flatBackdrop ? "true" : "false")
+      << ", \"merged_into_backdrop\": " << report.mergedIntoBackdrop
       << ", \"region_uncovered\": " << num(report.regionUncovered)
       << ", \"total_patches\": " << totalPatches << ", \"conversions\": " << report.conversions
       << ",\n    \"seconds\": {\"segmentation\": " << num(report.segmentSeconds)

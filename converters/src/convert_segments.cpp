@@ -12,6 +12,7 @@
 #include "converters/colors.h"
 #include "converters/neck.h"
 #include "converters/regions.h"
+#include "flat_backdrop.h"
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
 #include "meshcore/render.h"
@@ -486,6 +487,11 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
     return regions;
 }
 
+// flatOnly: a region joins the backdrop when its colour lies within this share of
+// --max-error of the backdrop's in every channel (flat_backdrop.h): its pixels then move by
+// no more than the error the conversion aims at.
+constexpr double kBackdropMergeShare = 1.0;
+
 // Converts regions of a whole image, several at once. Regions are drawn in their order
 // (largest first): a region reaches under the later ones only, so each pixel keeps the
 // colour of its own region and seams show the region beneath.
@@ -528,6 +534,8 @@ public:
 
     int maxPatches() const { return convert_.maxPatches; }
     bool isFlat(size_t k) const { return flat_[k].flat; }
+    // Region k's fitted colour (known with flatShapes only).
+    const Vec3& flatColour(size_t k) const { return flat_[k].col; }
 
     // Converts region jobs[w].first with patch budget jobs[w].second into outcomes[w], the
     // jobs in parallel. A flat region is a flat shape (a mesh when its outline cannot be
@@ -852,6 +860,18 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             converter = makeConverter(used);
         else
             used = options;
+    }
+
+    if (used.flatOnly && used.flatShapes) {
+        std::vector<Vec3> colours;
+        for (size_t k = 0; k < regions.size(); ++k) colours.push_back(converter->flatColour(k));
+        const size_t merged = mergeIntoBackdrop(regions, firstInk, colours,
+                                                kBackdropMergeShare * used.convert.maxError / 255);
+        if (merged > 0) {
+            firstInk -= merged;
+            converter = makeConverter(used);
+        }
+        segmentReport.mergedIntoBackdrop = static_cast<int>(merged);
     }
 
     auto t0 = Clock::now();

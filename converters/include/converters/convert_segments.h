@@ -116,6 +116,8 @@ struct SegmentConvertReport {
                                  // else 0
     int basePatches = 0;         // 0 with a flat backdrop
     bool flatBackdrop = false;   // every region flat: a flat rectangle instead of the base mesh
+    int mergedIntoBackdrop = 0;  // flatOnly: regions of nearly the backdrop's colour that joined
+                                 // it (flat_backdrop.h)
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment
     FitError interior;           // ... and over the others

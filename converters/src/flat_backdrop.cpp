@@ -1,0 +1,86 @@
+#include "flat_backdrop.h"
+
+#include <cmath>
+#include <deque>
+#include <set>
+#include <utility>
+
+namespace gm {
+
+namespace {
+
+// Per pixel the first region holding it (the one drawn there first), -1 for none.
+std::vector<int> firstRegionAt(const std::vector<Region>& regions) {
+    std::vector<int> at(regions.front().mask.size(), -1);
+    for (size_t k = regions.size(); k-- > 0;)
+        for (size_t p = 0; p < at.size(); ++p)
+            if (regions[k].mask[p]) at[p] = static_cast<int>(k);
+    return at;
+}
+
+// Per region, the regions it touches (4-neighbours), by the pixels each is drawn at first.
+std::vector<std::set<int>> touching(const std::vector<Region>& regions) {
+    const std::vector<int> at = firstRegionAt(regions);
+    const int w = regions.front().width, h = regions.front().height;
+    std::vector<std::set<int>> out(regions.size());
+    auto link = [&](int a, int b) {
+        if (a < 0 || b < 0 || a == b) return;
+        out[static_cast<size_t>(a)].insert(b);
+        out[static_cast<size_t>(b)].insert(a);
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = static_cast<size_t>(y) * w + x;
+            if (x + 1 < w) link(at[p], at[p + 1]);
+            if (y + 1 < h) link(at[p], at[p + static_cast<size_t>(w)]);
+        }
+    return out;
+}
+
+bool within(const Vec3& a, const Vec3& b, double tolerance) {
+    for (int c = 0; c < 3; ++c)
+        if (std::fabs(a[c] - b[c]) > tolerance) return false;
+    return true;
+}
+
+}  // namespace
+
+size_t mergeIntoBackdrop(std::vector<Region>& regions, size_t firstInk,
+                         const std::vector<Vec3>& colours, double tolerance) {
+    if (regions.size() < 2) return 0;
+    const auto mergeable = [&](int k) {
+        return k > 0 && static_cast<size_t>(k) < firstInk && within(colours[k], colours[0], tolerance);
+    };
+    // The regions reached from the first through mergeable ones.
+    const std::vector<std::set<int>> neighbours = touching(regions);
+    std::vector<char> merged(regions.size(), 0);
+    std::deque<int> queue{0};
+    while (!queue.empty()) {
+        const int k = queue.front();
+        queue.pop_front();
+        for (int n : neighbours[static_cast<size_t>(k)])
+            if (!merged[static_cast<size_t>(n)] && mergeable(n)) {
+                merged[static_cast<size_t>(n)] = 1;
+                queue.push_back(n);
+            }
+    }
+    size_t count = 0;
+    std::vector<Region> kept;
+    for (size_t k = 0; k < regions.size(); ++k) {
+        if (!merged[k]) {
+            kept.push_back(std::move(regions[k]));
+            continue;
+        }
+        Region& backdrop = kept.front();
+        for (size_t p = 0; p < backdrop.mask.size(); ++p)
+            if (regions[k].mask[p] && !backdrop.mask[p]) {
+                backdrop.mask[p] = 1;
+                ++backdrop.pixelCount;
+            }
+        ++count;
+    }
+    regions = std::move(kept);
+    return count;
+}
+
+}  // namespace gm
