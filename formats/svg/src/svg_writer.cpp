@@ -1,6 +1,8 @@
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -613,6 +615,47 @@ struct SvgPiece {
     size_t source = 0;  // the document's mesh it came from
 };
 
+// An edge of a grid row as the positions of its two corners, to 1e-4 px, left corner first.
+using EdgeKey = std::array<long long, 4>;
+EdgeKey edgeKey(Vec2 a, Vec2 b) {
+    const auto q = [](double v) { return std::llround(v * 1e4); };
+    return {q(a.x), q(a.y), q(b.x), q(b.y)};
+}
+
+// Adds to each piece's seams the edges of its top row that are an edge of another piece's
+// bottom row, and the other way round: the pieces of a slit mesh read back from an SVG are
+// meshes of their own, whose seams the document no longer names. Written again, they keep
+// their seams held and banded as the first file had them.
+void addSharedSeams(std::vector<SvgPiece>& pieces) {
+    std::map<EdgeKey, std::vector<size_t>> bottoms;  // pieces whose bottom row has the edge
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        const GradientMesh& m = pieces[k].mesh;
+        for (int i = 0; i < m.columns(); ++i)
+            bottoms[edgeKey(m.node(i, m.rows()).pos, m.node(i + 1, m.rows()).pos)].push_back(k);
+    }
+    auto addColumn = [](std::vector<int>& columns, int i) {
+        if (std::find(columns.begin(), columns.end(), i) == columns.end()) {
+            columns.push_back(i);
+            std::sort(columns.begin(), columns.end());
+        }
+    };
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        const GradientMesh& m = pieces[k].mesh;
+        for (int i = 0; i < m.columns(); ++i) {
+            const auto found = bottoms.find(edgeKey(m.node(i, 0).pos, m.node(i + 1, 0).pos));
+            if (found == bottoms.end()) continue;
+            for (size_t above : found->second) {
+                if (above == k) continue;
+                addColumn(pieces[k].seams.top, i);
+                const GradientMesh& a = pieces[above].mesh;
+                for (int j = 0; j < a.columns(); ++j)
+                    if (edgeKey(a.node(j, a.rows()).pos, a.node(j + 1, a.rows()).pos) == found->first)
+                        addColumn(pieces[above].seams.bottom, j);
+            }
+        }
+    }
+}
+
 std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
     std::vector<SvgPiece> pieces;
     for (size_t m = 0; m < doc.meshes.size(); ++m) {
@@ -627,6 +670,7 @@ std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
             pieces.push_back({mesh, {}, m});
         }
     }
+    addSharedSeams(pieces);
     return pieces;
 }
 
