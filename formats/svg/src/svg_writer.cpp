@@ -613,6 +613,7 @@ struct SvgPiece {
     GradientMesh mesh;
     PieceSeams seams;
     size_t source = 0;  // the document's mesh it came from
+    bool ofSlitMesh = false;  // a piece of a mesh with slits, whose seams the slits give
 };
 
 // An edge of a grid row as the positions of its two corners, to 1e-4 px, left corner first.
@@ -625,10 +626,12 @@ EdgeKey edgeKey(Vec2 a, Vec2 b) {
 // Adds to each piece's seams the edges of its top row that are an edge of another piece's
 // bottom row, and the other way round: the pieces of a slit mesh read back from an SVG are
 // meshes of their own, whose seams the document no longer names. Written again, they keep
-// their seams held and banded as the first file had them.
+// their seams held and banded as the first file had them. Pieces of a mesh with slits are
+// left out: its slits say where its pieces meet, and a slit whose sides touch is still a hole.
 void addSharedSeams(std::vector<SvgPiece>& pieces) {
     std::map<EdgeKey, std::vector<size_t>> bottoms;  // pieces whose bottom row has the edge
     for (size_t k = 0; k < pieces.size(); ++k) {
+        if (pieces[k].ofSlitMesh) continue;
         const GradientMesh& m = pieces[k].mesh;
         for (int i = 0; i < m.columns(); ++i)
             bottoms[edgeKey(m.node(i, m.rows()).pos, m.node(i + 1, m.rows()).pos)].push_back(k);
@@ -640,6 +643,7 @@ void addSharedSeams(std::vector<SvgPiece>& pieces) {
         }
     };
     for (size_t k = 0; k < pieces.size(); ++k) {
+        if (pieces[k].ofSlitMesh) continue;
         const GradientMesh& m = pieces[k].mesh;
         for (int i = 0; i < m.columns(); ++i) {
             const auto found = bottoms.find(edgeKey(m.node(i, 0).pos, m.node(i + 1, 0).pos));
@@ -664,8 +668,8 @@ std::vector<SvgPiece> svgPieces(const Document& doc, bool legacy) {
             std::vector<GradientMesh> split = splitIntoLegacyMeshes(mesh);
             const std::vector<PieceSeams> seams = legacySeams(mesh);
             for (size_t k = 0; k < split.size(); ++k)
-                pieces.push_back(
-                    {std::move(split[k]), k < seams.size() ? seams[k] : PieceSeams{}, m});
+                pieces.push_back({std::move(split[k]), k < seams.size() ? seams[k] : PieceSeams{},
+                                  m, !mesh.slits.empty()});
         } else {
             pieces.push_back({mesh, {}, m});
         }
