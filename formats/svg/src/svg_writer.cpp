@@ -629,33 +629,38 @@ EdgeKey edgeKey(Vec2 a, Vec2 b) {
 // their seams held and banded as the first file had them. Pieces of a mesh with slits are
 // left out: its slits say where its pieces meet, and a slit whose sides touch is still a hole.
 void addSharedSeams(std::vector<SvgPiece>& pieces) {
-    std::map<EdgeKey, std::vector<size_t>> bottoms;  // pieces whose bottom row has the edge
-    for (size_t k = 0; k < pieces.size(); ++k) {
-        if (pieces[k].ofSlitMesh) continue;
-        const GradientMesh& m = pieces[k].mesh;
-        for (int i = 0; i < m.columns(); ++i)
-            bottoms[edgeKey(m.node(i, m.rows()).pos, m.node(i + 1, m.rows()).pos)].push_back(k);
-    }
-    auto addColumn = [](std::vector<int>& columns, int i) {
-        if (std::find(columns.begin(), columns.end(), i) == columns.end()) {
-            columns.push_back(i);
-            std::sort(columns.begin(), columns.end());
-        }
+    struct Place {
+        size_t piece;
+        int column;
     };
+    std::map<EdgeKey, std::vector<Place>> bottoms;  // the bottom-row edges, where they are
+    std::vector<std::vector<char>> top(pieces.size()), bottom(pieces.size());  // per column
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        const GradientMesh& m = pieces[k].mesh;
+        top[k].assign(static_cast<size_t>(m.columns()), 0);
+        bottom[k].assign(static_cast<size_t>(m.columns()), 0);
+        if (pieces[k].ofSlitMesh) continue;
+        for (int i = 0; i < m.columns(); ++i)
+            bottoms[edgeKey(m.node(i, m.rows()).pos, m.node(i + 1, m.rows()).pos)].push_back({k, i});
+    }
     for (size_t k = 0; k < pieces.size(); ++k) {
         if (pieces[k].ofSlitMesh) continue;
         const GradientMesh& m = pieces[k].mesh;
         for (int i = 0; i < m.columns(); ++i) {
             const auto found = bottoms.find(edgeKey(m.node(i, 0).pos, m.node(i + 1, 0).pos));
             if (found == bottoms.end()) continue;
-            for (size_t above : found->second) {
-                if (above == k) continue;
-                addColumn(pieces[k].seams.top, i);
-                const GradientMesh& a = pieces[above].mesh;
-                for (int j = 0; j < a.columns(); ++j)
-                    if (edgeKey(a.node(j, a.rows()).pos, a.node(j + 1, a.rows()).pos) == found->first)
-                        addColumn(pieces[above].seams.bottom, j);
-            }
+            for (const Place& above : found->second)
+                if (above.piece != k) {
+                    top[k][static_cast<size_t>(i)] = 1;
+                    bottom[above.piece][static_cast<size_t>(above.column)] = 1;
+                }
+        }
+    }
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        PieceSeams& seams = pieces[k].seams;
+        for (int i = 0; i < pieces[k].mesh.columns(); ++i) {
+            if (top[k][static_cast<size_t>(i)]) seams.top.push_back(i);
+            if (bottom[k][static_cast<size_t>(i)]) seams.bottom.push_back(i);
         }
     }
 }
