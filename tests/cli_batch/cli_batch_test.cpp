@@ -212,7 +212,8 @@ TEST_CASE("batch: killed with SIGKILL mid-batch, a rerun completes it") {
     const fs::path dir = tmpDir("sigkill");
     const fs::path in = dir / "in";
     fs::create_directories(in);
-    for (int k = 0; k < 8; ++k) crop("horse.png", 10 + 20 * k, 30, 56, in / ("h" + std::to_string(k) + ".png"));
+    // Crops large enough that the batch takes seconds: the kill must come before its end.
+    for (int k = 0; k < 8; ++k) crop("horse.png", 10 + 20 * k, 30, 160, in / ("h" + std::to_string(k) + ".png"));
     const fs::path out = dir / "out", log = out / "gradmesh-batch.jsonl";
     const std::string batch = std::string(GRADMESH_EXE) + " batch " + q(in) + " --output-dir " + q(out) +
                               " --to gmb,svg --jobs 2";
