@@ -43,6 +43,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"split_at_necks\": " << report.splitRegions << ", \"flat\": " << report.flatRegions
       << ", \"finer_segments\": " << report.finerSegments
       << ", \"thin_structures\": " << segmentation.thinStructures
+      << ", \"thin_grown\": " << segmentation.thinGrown
       << ", \"ink_lines\": " << segmentation.inkLines
       << ", \"base_patches\": " << report.basePatches
       << ", \"flat_backdrop\": " << (report.flatBackdrop ? "true" : "false")

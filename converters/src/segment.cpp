@@ -1036,7 +1036,9 @@ Segmentation segmentStages(const RgbaImage& image, const SegmentOptions& options
     thin.minPixels = smallestThin;
     thin.contrast = options.distinctContrast;
     thin.threads = options.threads;
-    st.thinStructures = liftThinStructures(bgr, seg.labels, fh.count, thin) - fh.count;
+    const int withThin = liftThinStructures(bgr, seg.labels, fh.count, thin);
+    st.thinStructures = withThin - fh.count;
+    st.thinGrown = growThinStructures(bgr, seg.labels, fh.count, withThin, thin.contrast);
 
     // (4) One 4-connected component per label, none under minRegion.
     t = Clock::now();

@@ -199,6 +199,50 @@ int liftThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int count,
     return count;
 }
 
+long growThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int firstThin, int count,
+                        double contrast) {
+    if (firstThin >= count) return 0;
+    const int W = bgr.cols, H = bgr.rows;
+    // Each label's mean colour, before any pixel moves.
+    std::vector<std::array<double, 3>> mean(static_cast<size_t>(count), {0, 0, 0});
+    std::vector<long> size(static_cast<size_t>(count), 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const int l = labels[static_cast<size_t>(y) * W + x];
+            const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
+            for (int k = 0; k < 3; ++k) mean[static_cast<size_t>(l)][k] += c[k];
+            ++size[static_cast<size_t>(l)];
+        }
+    for (int l = 0; l < count; ++l)
+        for (double& v : mean[static_cast<size_t>(l)]) v /= std::max(1L, size[static_cast<size_t>(l)]);
+    const auto distance = [&](const cv::Vec3b& c, int l) {
+        double d = 0;
+        for (int k = 0; k < 3; ++k) d += (c[k] - mean[static_cast<size_t>(l)][k]) * (c[k] - mean[static_cast<size_t>(l)][k]);
+        return std::sqrt(d);
+    };
+    std::vector<int> queue;
+    for (size_t p = 0; p < labels.size(); ++p)
+        if (labels[p] >= firstThin) queue.push_back(static_cast<int>(p));
+    long taken = 0;
+    for (size_t head = 0; head < queue.size(); ++head) {
+        const int p = queue[head], x = p % W, y = p / W, own = labels[static_cast<size_t>(p)];
+        const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+        for (int d = 0; d < 4; ++d) {
+            if (nx[d] < 0 || ny[d] < 0 || nx[d] >= W || ny[d] >= H) continue;
+            const int q = ny[d] * W + nx[d];
+            const int other = labels[static_cast<size_t>(q)];
+            if (other >= firstThin) continue;
+            const cv::Vec3b c = bgr.at<cv::Vec3b>(ny[d], nx[d]);
+            const double toOwn = distance(c, own);
+            if (toOwn >= 0.5 * contrast || toOwn >= 0.5 * distance(c, other)) continue;
+            labels[static_cast<size_t>(q)] = own;
+            queue.push_back(q);
+            ++taken;
+        }
+    }
+    return taken;
+}
+
 int cutThinLoops(std::vector<int>& labels, int W, int H, int count, int maxSteps,
                  long minPixels) {
     const std::vector<uint8_t> thin = thinLabels(labels, W, H, count, maxSteps);

@@ -34,6 +34,15 @@ struct ThinStructureOptions {
 int liftThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int count,
                        const ThinStructureOptions& options);
 
+// Grows the labels from `firstThin` to `count` (the thin structures liftThinStructures made)
+// into the 4-neighbouring pixels of earlier labels whose colour is of the structure rather than
+// of their own label: nearer to the structure's mean colour than half their distance to their
+// label's, and within `contrast` / 2 of it. A structure thin in places and wider in others (a
+// ring drawn off-centre) is found as a ridge only where it is thin; the graph stage may have
+// given the rest to what surrounds it. Returns the pixels taken.
+long growThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int firstThin, int count,
+                        double contrast);
+
 // Cuts every label no wider than about 2·maxSteps+1 pixels (each pixel within maxSteps
 // 4-neighbour steps of another label) that encloses other labels (a ring) in two across its
 // longer side, when both halves are 4-connected and of at least minPixels pixels: the second

@@ -107,3 +107,35 @@ TEST_CASE("lines and rings 2-4 px wide convert unbroken and within E 10 inside",
     }
     CHECK(f.stray == 0);
 }
+
+TEST_CASE("a ring thin on one side and wide on the other converts whole", "[convert][segment]") {
+    // detect_blob.png's small green ring, drawn off-centre: 2-3 px wide on its left, 8 on its
+    // right, far under the graph stage's smallest region there. The ridge finder sees only its
+    // thin side; the thin structure takes in the rest of the ring (growThinStructures), which
+    // the background's region had and painted black.
+    const RgbaImage image = readImage(std::string(GRADMESH_SAMPLES) + "/detect_blob.png");
+    SegmentConvertReport report;
+    const Document doc = convertSegmented(image, SegmentConvertOptions{}, "detect_blob.png", &report);
+    const RgbaImage render = renderDocument(doc, RenderOptions{}).image;
+    // The ring's core: green pixels whose 8 neighbours are green too (its outline's pixels
+    // are the anti-aliasing's).
+    const auto green = [&](int x, int y) {
+        return test::channel255(image, x, y, 1) >= 200 && test::channel255(image, x, y, 0) < 20;
+    };
+    long ring = 0, wrong = 0;
+    for (int y = 185; y < 245; ++y)
+        for (int x = 200; x < 262; ++x) {
+            bool core = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) core = core && green(x + dx, y + dy);
+            if (!core) continue;
+            ++ring;
+            wrong += test::worstChannelError(image, render, x, y) > 48;
+        }
+    WARN("detect_blob's ring: " << ring << " core pixels, " << wrong << " of them off by more "
+         << "than 48/255; " << report.segmentation.thinStructures << " thin structures took in "
+         << report.segmentation.thinGrown << " px");
+    CHECK(ring > 400);
+    CHECK(wrong == 0);
+}
+

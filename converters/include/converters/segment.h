@@ -98,6 +98,7 @@ struct SegmentStats {
     long grabCutPixels = 0;   // total area of their GrabCut windows
     int components = 0;       // 4-connected components before merging
     int thinStructures = 0;   // lines and rings found at full size (segment_thin.h)
+    long thinGrown = 0;       // pixels of other labels they took in (growThinStructures)
     int inkLines = 0;         // of the final labels, ink lines drawn between regions
 };
 
