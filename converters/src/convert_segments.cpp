@@ -510,10 +510,8 @@ public:
         convert_.subPixelEdgePull = options.subPixelEdgePull;
         convert_.progress = nullptr;  // regions done are counted here, not their stages
         if (workers_ > 1) convert_.threads = 1;
-        drawnAt_.assign(static_cast<size_t>(image.width) * image.height, -1);
-        for (size_t k = 0; k < regions.size(); ++k)
-            for (size_t p = 0; p < drawnAt_.size(); ++p)
-                if (regions[k].mask[p] && drawnAt_[p] < 0) drawnAt_[p] = static_cast<int>(k);
+        drawnAt_ = firstRegionAt(regions);
+        drawnAt_.resize(static_cast<size_t>(image.width) * image.height, -1);
         flat_.resize(regions.size());
         if (options.flatShapes) {
             // Per pixel the last region holding it: a hole under --min-hole that a region's
@@ -862,7 +860,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
             used = options;
     }
 
-    if (used.flatOnly && used.flatShapes) {
+    // --total-patches 0: every region a flat shape (flatOnly asks for flatShapes' colours).
+    const bool allFlat = used.flatOnly && used.flatShapes;
+    if (allFlat) {
         std::vector<Vec3> colours;
         for (size_t k = 0; k < regions.size(); ++k) colours.push_back(converter->flatColour(k));
         const size_t merged = mergeIntoBackdrop(regions, firstInk, colours,
@@ -880,7 +880,7 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         outcomes = convertWithinTotal(*converter, regions, used, segmentReport);
     } else {
         std::vector<std::pair<size_t, int>> jobs;
-        const int budget = used.flatOnly && used.flatShapes ? 0 : converter->maxPatches();
+        const int budget = allFlat ? 0 : converter->maxPatches();
         for (size_t k = 0; k < regions.size(); ++k) jobs.push_back({k, budget});
         converter->run(jobs, outcomes);
     }

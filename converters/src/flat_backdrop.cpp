@@ -5,18 +5,11 @@
 #include <set>
 #include <utility>
 
+#include "converters/regions.h"
+
 namespace gm {
 
 namespace {
-
-// Per pixel the first region holding it (the one drawn there first), -1 for none.
-std::vector<int> firstRegionAt(const std::vector<Region>& regions) {
-    std::vector<int> at(regions.front().mask.size(), -1);
-    for (size_t k = regions.size(); k-- > 0;)
-        for (size_t p = 0; p < at.size(); ++p)
-            if (regions[k].mask[p]) at[p] = static_cast<int>(k);
-    return at;
-}
 
 // Per region, the regions it touches (4-neighbours), by the pixels each is drawn at first.
 std::vector<std::set<int>> touching(const std::vector<Region>& regions) {

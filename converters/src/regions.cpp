@@ -621,6 +621,15 @@ Region growRegionInto(const Region& own, int overlap, int minHole, const std::ve
     return region;
 }
 
+std::vector<int> firstRegionAt(const std::vector<Region>& regions) {
+    if (regions.empty()) return {};
+    std::vector<int> at(regions.front().mask.size(), -1);
+    for (size_t k = regions.size(); k-- > 0;)
+        for (size_t p = 0; p < at.size(); ++p)
+            if (regions[k].mask[p]) at[p] = static_cast<int>(k);
+    return at;
+}
+
 PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h) {
     PixelBox b{w, h, -1, -1};
     for (int y = 0; y < h; ++y)

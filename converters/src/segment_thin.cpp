@@ -216,9 +216,7 @@ long growThinStructures(const cv::Mat& bgr, std::vector<int>& labels, int firstT
     for (int l = 0; l < count; ++l)
         for (double& v : mean[static_cast<size_t>(l)]) v /= std::max(1L, size[static_cast<size_t>(l)]);
     const auto distance = [&](const cv::Vec3b& c, int l) {
-        double d = 0;
-        for (int k = 0; k < 3; ++k) d += (c[k] - mean[static_cast<size_t>(l)][k]) * (c[k] - mean[static_cast<size_t>(l)][k]);
-        return std::sqrt(d);
+        return colourDistance(c, mean[static_cast<size_t>(l)]);
     };
     std::vector<int> queue;
     for (size_t p = 0; p < labels.size(); ++p)
