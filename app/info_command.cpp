@@ -24,10 +24,15 @@ void printMesh(size_t k, const GradientMesh& m) {
 void printShape(size_t k, const FlatShape& s) {
     size_t segments = 0;
     for (const std::vector<Vec2>& path : s.subpaths) segments += path.size() / 3;
-    std::printf("shape %zu: flat #%02lx%02lx%02lx, opacity %.3g, %zu subpaths, %zu segments, "
-                "above %zu meshes\n",
-                k, std::lround(s.col.r * 255), std::lround(s.col.g * 255),
-                std::lround(s.col.b * 255), s.alpha, s.subpaths.size(), segments, s.layer);
+    std::printf("shape %zu: ", k);
+    if (s.stroked())
+        std::printf("stroke %.3g px wide", s.strokeWidth);
+    else
+        std::printf("flat");
+    std::printf(" #%02lx%02lx%02lx, opacity %.3g, %zu %s, %zu segments, above %zu meshes\n",
+                std::lround(s.col.r * 255), std::lround(s.col.g * 255), std::lround(s.col.b * 255),
+                s.alpha, s.subpaths.size(), s.stroked() ? "centrelines" : "subpaths", segments,
+                s.layer);
 }
 
 }  // namespace

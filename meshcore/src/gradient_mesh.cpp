@@ -32,7 +32,8 @@ bool operator==(const GradientMesh& a, const GradientMesh& b) {
 }
 
 bool operator==(const FlatShape& a, const FlatShape& b) {
-    return a.col == b.col && a.alpha == b.alpha && a.subpaths == b.subpaths && a.layer == b.layer;
+    return a.col == b.col && a.alpha == b.alpha && a.subpaths == b.subpaths && a.layer == b.layer &&
+           a.strokeWidth == b.strokeWidth;
 }
 
 std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon) {

@@ -136,8 +136,12 @@ std::string validateShape(const FlatShape& shape, size_t meshCount) {
         return "colour or opacity outside 0-1";
     if (shape.layer > meshCount) return "painted above a mesh that does not exist";
     if (shape.subpaths.empty()) return "no outline";
+    if (!(shape.strokeWidth >= 0 && shape.strokeWidth <= kMaxStrokeWidth))
+        return "stroke width outside 0-10000 pixels";
     for (const std::vector<Vec2>& path : shape.subpaths) {
-        if (path.empty() || path.size() % 3 != 0)
+        if (shape.stroked() && (path.size() < 4 || path.size() % 3 != 1))
+            return "a centreline's point count is not 3n + 1 with n >= 1";
+        if (!shape.stroked() && (path.empty() || path.size() % 3 != 0))
             return "a subpath's point count is not a positive multiple of 3";
         for (const Vec2& p : path)
             if (!std::isfinite(p.x) || !std::isfinite(p.y)) return "a point is not finite";

@@ -1,5 +1,5 @@
-// Flat shapes (FlatShape) in the renderer: anti-aliased coverage, holes, paint order among the
-// meshes, samples, validation.
+// Flat shapes (FlatShape) in the renderer: anti-aliased coverage, holes, strokes, paint order
+// among the meshes, samples, validation.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -16,6 +16,41 @@ double coveredArea(const RgbaImage& img) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) area += img.at(x, y)[3];
     return area;
+}
+
+// A stroke along the straight line a-b (one cubic, its handles at the thirds).
+FlatShape strokeLine(Vec2 a, Vec2 b, double width) {
+    FlatShape s;
+    s.col = {0.2, 0.4, 0.6};
+    s.strokeWidth = width;
+    s.subpaths = {{a, a + (1.0 / 3) * (b - a), a + (2.0 / 3) * (b - a), b}};
+    return s;
+}
+
+// A stroke along the circle of radius r about c: four cubics from (cx + r, cy) back to it.
+FlatShape strokeCircle(Vec2 c, double r, double width) {
+    constexpr double kappa = 0.5522847498307936;
+    const Vec2 dirs[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    FlatShape s;
+    s.col = {0.9, 0.5, 0.1};
+    s.strokeWidth = width;
+    std::vector<Vec2> path;
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 a = dirs[k], b = dirs[(k + 1) % 4];
+        path.insert(path.end(),
+                    {c + r * a, c + r * a + (kappa * r) * b, c + r * b + (kappa * r) * a});
+    }
+    path.push_back(path.front());
+    s.subpaths = {path};
+    return s;
+}
+
+Document canvasWith(const FlatShape& shape, int width, int height) {
+    Document doc;
+    doc.width = width;
+    doc.height = height;
+    doc.shapes.push_back(shape);
+    return doc;
 }
 
 }  // namespace
@@ -88,4 +123,115 @@ TEST_CASE("a shape's layer beyond the meshes, bad colours and bad point counts a
     doc = makeFlatDocument();
     doc.shapes[0].subpaths[1][4].x = NAN;
     CHECK_FALSE(validateDocument(doc).empty());
+}
+
+TEST_CASE("a stroked straight line covers its width with round caps", "[render][flat][stroke]") {
+    const double w = 3, length = 30;
+    const Document doc = canvasWith(strokeLine({10, 10.5}, {40, 10.5}, w), 60, 30);
+    REQUIRE(validateDocument(doc).empty());
+    const RgbaImage img = renderDocument(doc).image;
+    // Rows 9 to 11 lie within the stroke between the caps; the colour is the shape's.
+    for (int y = 9; y <= 11; ++y)
+        for (int x = 10; x < 40; ++x) REQUIRE(img.at(x, y)[3] == 1.0f);
+    CHECK(img.at(25, 10)[2] == Approx(0.6).margin(1e-6));
+    // Pixels whose centres lie farther than w/2 + 1 from the centreline stay empty.
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const double cx = x + 0.5, cy = y + 0.5;
+            const double dx = std::max({10 - cx, cx - 40, 0.0}), dy = cy - 10.5;
+            if (std::hypot(dx, dy) > w / 2 + 1) REQUIRE(img.at(x, y)[3] == 0.0f);
+        }
+    // The body and two half-disc caps.
+    const double area = w * length + M_PI * w * w / 4;
+    CHECK(std::fabs(coveredArea(img) - area) < 0.02 * area);
+    // Half a pixel of the edge row: the rows beside the body are empty, the caps half covered.
+    CHECK(img.at(25, 8)[3] == 0.0f);
+    CHECK(img.at(41, 10)[3] > 0.2f);
+    CHECK(img.at(41, 10)[3] < 0.8f);
+}
+
+TEST_CASE("a thin or diagonal stroke covers its area", "[render][flat][stroke]") {
+    for (double w : {0.5, 1.5, 2.25, 8.0}) {
+        INFO("width " << w);
+        const Vec2 a{12.3, 20.7}, b{71.9, 55.2};
+        const RgbaImage img = renderDocument(canvasWith(strokeLine(a, b, w), 90, 80)).image;
+        const double area = w * norm(b - a) + M_PI * w * w / 4;
+        CHECK(std::fabs(coveredArea(img) - area) < 0.02 * area);
+        float most = 0;
+        for (float v : img.pixels) most = std::max(most, v);
+        if (w < 1) CHECK(most <= w * std::sqrt(2.0) + 1e-6);
+    }
+}
+
+TEST_CASE("a closed stroke is a ring without caps or gap", "[render][flat][stroke]") {
+    const Vec2 c{50, 49.5};
+    const double r = 30, w = 4;
+    const RgbaImage img = renderDocument(canvasWith(strokeCircle(c, r, w), 100, 100)).image;
+    // Four cubics are within 3e-4 of the circle: the ring's area.
+    const double area = 2 * M_PI * r * w;
+    CHECK(std::fabs(coveredArea(img) - area) < 0.01 * area);
+    CHECK(img.at(50, 50)[3] == 0.0f);  // nothing is filled
+    CHECK(img.at(80, 49)[3] == 1.0f);  // on the ring where it closes
+    // Where it closes looks like anywhere else: the pixels across the ring at its start (right)
+    // and at its opposite side (left) are mirror images.
+    for (int d = -4; d <= 4; ++d) {
+        const float right = img.at(80 + d, 49)[3], left = img.at(19 - d, 49)[3];
+        CHECK(right == Approx(left).margin(0.02));
+    }
+}
+
+TEST_CASE("a stroke without antialiasing is opaque or empty", "[render][flat][stroke]") {
+    RenderOptions o;
+    o.antialias = false;
+    const Document doc = canvasWith(strokeCircle({40, 40}, 25, 3.5), 80, 80);
+    const RgbaImage img = renderDocument(doc, o).image;
+    for (size_t k = 3; k < img.pixels.size(); k += 4)
+        REQUIRE((img.pixels[k] == 0.0f || img.pixels[k] == 1.0f));
+    const double area = 2 * M_PI * 25 * 3.5;
+    CHECK(std::fabs(coveredArea(img) - area) < 0.04 * area);
+}
+
+TEST_CASE("a stroke's opacity and scale, and the samples it covers", "[render][flat][stroke]") {
+    Document doc = makeFlatDocument();
+    FlatShape line = strokeLine({20, 30}, {200, 30}, 6);
+    line.alpha = 0.5;
+    line.layer = 2;
+    doc.shapes.push_back(line);
+    FlatShape opaque = strokeLine({20, 150}, {200, 150}, 6);
+    opaque.layer = 2;
+    doc.shapes.push_back(opaque);
+    REQUIRE(validateDocument(doc).empty());
+    RenderOptions o;
+    o.wantSamples = true;
+    o.scale = 2;
+    const RenderResult r = renderDocument(doc, o);
+    const size_t w = static_cast<size_t>(r.image.width);
+    // Half-opaque over the mesh: the mesh keeps its sample; the opaque stroke takes it away.
+    CHECK(r.samples[60 * w + 80].mesh == 0);
+    CHECK(r.image.at(80, 60)[2] != Approx(0.6).margin(1e-3));
+    CHECK(r.samples[300 * w + 380].mesh == -1);
+    CHECK(r.image.at(380, 300)[2] == Approx(0.6).margin(1e-6));
+    // At scale 2 the stroke is 12 output pixels wide: rows 294 to 305 are inside.
+    CHECK(r.samples[294 * w + 380].mesh == -1);
+    CHECK(r.samples[305 * w + 380].mesh == -1);
+    CHECK(r.samples[292 * w + 380].mesh != -1);
+    CHECK(r.samples[307 * w + 380].mesh != -1);
+}
+
+TEST_CASE("a stroke's centreline counts and width are validated", "[validate][flat][stroke]") {
+    Document doc = canvasWith(strokeLine({1, 2}, {30, 4}, 2), 40, 40);
+    REQUIRE(validateDocument(doc).empty());
+    doc.shapes[0].subpaths[0].pop_back();  // 3 points: a filled shape's count
+    CHECK(validateDocument(doc).find("3n + 1") != std::string::npos);
+    doc.shapes[0].subpaths[0] = {{1, 2}};  // n = 0
+    CHECK(validateDocument(doc).find("3n + 1") != std::string::npos);
+    doc = canvasWith(strokeLine({1, 2}, {30, 4}, 2), 40, 40);
+    for (double width : {-1.0, double(NAN), 2e4, double(INFINITY)}) {
+        doc.shapes[0].strokeWidth = width;
+        CHECK(validateDocument(doc).find("stroke width") != std::string::npos);
+    }
+    // A filled shape keeps its own rule: 3n + 1 points are not a closed outline.
+    doc = canvasWith(strokeLine({1, 2}, {30, 4}, 2), 40, 40);
+    doc.shapes[0].strokeWidth = 0;
+    CHECK(validateDocument(doc).find("multiple of 3") != std::string::npos);
 }

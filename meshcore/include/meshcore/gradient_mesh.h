@@ -125,10 +125,17 @@ bool operator==(const GradientMesh& a, const GradientMesh& b);
 // the even-odd rule fills the same area. Subpath k's points are 3n, n >= 1: segment m runs from
 // points[3m] via the handles points[3m+1], points[3m+2] to points[3m+3], the last one back to
 // points[0] (closed implicitly).
+//
+// A stroked shape (strokeWidth > 0) is a line of one colour instead: each subpath is a
+// centreline of 3n + 1 points, n >= 1 (segment m runs from points[3m] via points[3m+1],
+// points[3m+2] to points[3m+3]), open unless its last point equals its first; it is painted
+// `strokeWidth` pixels wide with round caps and round joins, and nothing is filled.
 struct FlatShape {
     Vec3 col;          // sRGB 0–1
     double alpha = 1;  // 0–1, straight
     std::vector<std::vector<Vec2>> subpaths;
+    double strokeWidth = 0;  // pixels; 0: a filled shape
+    bool stroked() const { return strokeWidth > 0; }
     // Paint order: the shape is painted after the first `layer` meshes of its document and
     // before the others (0: below every mesh, meshes.size(): above all).
     size_t layer = 0;

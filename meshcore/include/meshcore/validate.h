@@ -11,6 +11,8 @@ namespace gm {
 // lies at most 2 × kMaxCoordinate from its node. Their number formats stay exact within it,
 // and no real canvas comes near it. (.gmb keeps any finite double.)
 constexpr double kMaxCoordinate = 1e7;
+// The widest stroke a flat shape may have, pixels.
+constexpr double kMaxStrokeWidth = 1e4;
 
 // Returns an empty string when the mesh is valid, else a one-line description of the first
 // problem found: knots not strictly increasing, node count mismatch, slit outside the grid or
