@@ -28,10 +28,18 @@ std::string epsDocument(const Document& doc, const WriteOptions& options) {
     ps += "4 dict begin\n";
     // Canvas y runs down, PostScript y up.
     ps += "0 " + h + " translate 1 -1 scale\n";
-    size_t nextShape = 0;  // flat shapes go between the shadings in their paint order
+    // Flat shapes go between the shadings in their paint order; a stroked one between gsave
+    // and grestore, so that its line width, caps and joins end with it.
+    size_t nextShape = 0;
     auto shapesUpTo = [&](size_t layer) {
-        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
-            ps += shapeFillOperators(doc.shapes[nextShape], kPostScriptPathOperators);
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape) {
+            const FlatShape& shape = doc.shapes[nextShape];
+            if (shape.stroked())
+                ps +=
+                    "gsave " + shapeStrokeOperators(shape, kPostScriptPathOperators) + "grestore\n";
+            else
+                ps += shapeFillOperators(shape, kPostScriptPathOperators);
+        }
     };
     for (const MeshShading& shading : buildMeshShadings(doc, options)) {
         shapesUpTo(shading.source);

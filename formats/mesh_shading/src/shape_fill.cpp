@@ -1,13 +1,16 @@
-// Flat shapes as filled paths in PDF and PostScript (mesh_shading.h).
+// Flat shapes as filled or stroked paths in PDF and PostScript (mesh_shading.h).
 #include <cmath>
 
 #include "formats/mesh_shading.h"
 
 namespace gm {
 
-const PathOperators kPdfPathOperators{"rg", "m", "l", "c", "h", "f"};
-const PathOperators kPostScriptPathOperators{"setrgbcolor", "moveto",    "lineto",
-                                             "curveto",     "closepath", "fill"};
+const PathOperators kPdfPathOperators{"rg", "m", "l", "c", "h", "f", "RG", "w", "1 J 1 j", "S"};
+const PathOperators kPostScriptPathOperators{
+    "setrgbcolor", "moveto",       "lineto",
+    "curveto",     "closepath",    "fill",
+    "setrgbcolor", "setlinewidth", "1 setlinecap 1 setlinejoin",
+    "stroke"};
 
 namespace {
 
@@ -46,14 +49,40 @@ private:
     size_t lineStart_;
 };
 
+void colour(OperatorText& text, Vec3 col, const char* setColor) {
+    for (int c = 0; c < 3; ++c) text.word(formatDecimal(std::fmin(1.0, std::fmax(0.0, col[c])), 4));
+    text.word(setColor);
+}
+
+// One centreline: its segments from the first point; a closed one's last segment, when a line,
+// left to the close (unless it is the only one).
+void centreline(OperatorText& text, const std::vector<Vec2>& path, const PathOperators& ops) {
+    const size_t last = path.size() - 1;
+    const bool closed = path[last] == path[0];
+    text.point(path[0]);
+    text.word(ops.moveTo);
+    for (size_t k = 0; k < last; k += 3) {
+        const Vec2 a = path[k], h1 = path[k + 1], h2 = path[k + 2], b = path[k + 3];
+        if (isLine(a, h1, h2, b)) {
+            if (closed && k + 3 == last && k > 0) break;  // closing the path draws it
+            text.point(b);
+            text.word(ops.lineTo);
+        } else {
+            text.point(h1);
+            text.point(h2);
+            text.point(b);
+            text.word(ops.curveTo);
+        }
+    }
+    if (closed) text.word(ops.close);
+}
+
 }  // namespace
 
 std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops) {
     std::string out;
     OperatorText text(out);
-    for (int c = 0; c < 3; ++c)
-        text.word(formatDecimal(std::fmin(1.0, std::fmax(0.0, shape.col[c])), 4));
-    text.word(ops.setColor);
+    colour(text, shape.col, ops.setColor);
     for (const std::vector<Vec2>& path : shape.subpaths) {
         const size_t n = path.size();
         text.point(path[0]);
@@ -74,6 +103,19 @@ std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops)
         text.word(ops.close);
     }
     text.word(ops.fill);
+    text.endLine();
+    return out;
+}
+
+std::string shapeStrokeOperators(const FlatShape& shape, const PathOperators& ops) {
+    std::string out;
+    OperatorText text(out);
+    colour(text, shape.col, ops.setStrokeColor);
+    text.word(formatDecimal(std::fmax(shape.strokeWidth, 1e-3), 3));  // 0 would be a hairline
+    text.word(ops.setLineWidth);
+    text.word(ops.roundCapsJoins);
+    for (const std::vector<Vec2>& path : shape.subpaths) centreline(text, path, ops);
+    text.word(ops.stroke);
     text.endLine();
     return out;
 }

@@ -63,18 +63,26 @@ std::string pdfDocument(const Document& doc, const WriteOptions& options) {
     // Canvas y runs down, PDF y up.
     paint = "q 1 0 0 -1 0 " + h + " cm\n";
     // Flat shapes between the shadings in their paint order; a translucent one through a
-    // graphics state of its own.
+    // graphics state of its own (/ca the fill's opacity, /CA the stroke's), a stroked one
+    // between q and Q so that its line width, caps and joins end with it.
     size_t nextShape = 0;
     auto shapesUpTo = [&](size_t layer) {
         for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape) {
             const FlatShape& shape = doc.shapes[nextShape];
-            if (shape.alpha >= 1) {
-                paint += shapeFillOperators(shape, kPdfPathOperators);
+            const std::string ops = shape.stroked() ? shapeStrokeOperators(shape, kPdfPathOperators)
+                                                    : shapeFillOperators(shape, kPdfPathOperators);
+            if (shape.alpha >= 1 && !shape.stroked()) {
+                paint += ops;
                 continue;
             }
-            const std::string name = "/GS" + std::to_string(nextShape);
-            stateResources += name + " << /ca " + formatDecimal(shape.alpha, 4) + " >> ";
-            paint += "q " + name + " gs\n" + shapeFillOperators(shape, kPdfPathOperators) + "Q\n";
+            paint += "q ";
+            if (shape.alpha < 1) {
+                const std::string name = "/GS" + std::to_string(nextShape);
+                stateResources += name + (shape.stroked() ? " << /CA " : " << /ca ") +
+                                  formatDecimal(shape.alpha, 4) + " >> ";
+                paint += name + " gs ";
+            }
+            paint += ops + "Q\n";
         }
     };
     for (size_t n = 0; n < shadings.size(); ++n) {

@@ -503,10 +503,17 @@ void parseXml(tinyxml2::XMLDocument& xml, const std::string& bytes, const std::s
 struct ElementIndex {
     std::unordered_map<std::string, const XMLElement*> byId;
     std::vector<const XMLElement*> painted, meshes;
-    // <path>s filled with a plain colour (flat shapes), each with the number of `painted`
-    // elements before it in document order.
+    // <path>s filled or stroked with a plain colour (flat shapes), each with the number of
+    // `painted` elements before it in document order.
     std::vector<std::pair<const XMLElement*, size_t>> flat;
 };
+
+// The flat shapes a path paints with plain colours: 0, 1 (its fill or its stroke) or 2.
+int flatShapesOf(const XMLElement* el) {
+    Vec3 colour;
+    return parseHexColour(Reader::property(el, "fill"), colour) +
+           parseHexColour(Reader::property(el, "stroke"), colour);
+}
 
 ElementIndex indexElements(const XMLElement* root) {
     ElementIndex index;
@@ -520,10 +527,9 @@ ElementIndex indexElements(const XMLElement* root) {
             continue;
         }
         const std::string fill = Reader::property(el, "fill");
-        Vec3 colour;
         if (!Reader::urlTarget(fill).empty())
             index.painted.push_back(el);
-        else if (isNamed(el, "path") && parseHexColour(fill, colour))
+        else if (isNamed(el, "path") && flatShapesOf(el) > 0)
             index.flat.emplace_back(el, index.painted.size());
         std::vector<const XMLElement*> children;
         for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
@@ -624,32 +630,82 @@ Affine gradientToCanvas(const MeshUse& use, const XMLElement* transformEl, const
     return compose(viewBoxShift, t);
 }
 
+// An opacity property (fill-opacity, stroke-opacity) in 0-1; 1 when absent.
+double readOpacity(const XMLElement* el, const char* name, Reader& rd) {
+    const std::string text = Reader::property(el, name);
+    if (text.empty()) return 1;
+    char* end = nullptr;
+    const double a = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end || !(a >= 0 && a <= 1))
+        rd.fail(std::string(name) + " is not a number in 0-1", el);
+    return a;
+}
+
+// The stroke width of a path in its own user space: a plain number, "px" allowed; 1 when
+// absent (SVG's default).
+double readStrokeWidth(const XMLElement* el, Reader& rd) {
+    const std::string text = Reader::property(el, "stroke-width");
+    if (text.empty()) return 1;
+    char* end = nullptr;
+    const double w = std::strtod(text.c_str(), &end);
+    const std::string unit = end;
+    bool plain = end != text.c_str() && (unit.empty() || unit == "px");
+    for (const char* q = text.c_str(); q < end; ++q)  // no "inf", "nan", hex floats
+        if (std::isalpha(static_cast<unsigned char>(*q)) && *q != 'e' && *q != 'E') plain = false;
+    if (!plain || !(w > 0 && w <= kMaxStrokeWidth))
+        rd.fail("stroke-width '" + text.substr(0, 40) +
+                    "' is not a positive number of pixels up to " +
+                    std::to_string(int(kMaxStrokeWidth)),
+                el);
+    return w;
+}
+
+// A stroke as FlatShape paints it: round caps, round joins, no dashes; others are refused.
+void requireRoundSolidStroke(const XMLElement* el, Reader& rd) {
+    const std::string cap = Reader::property(el, "stroke-linecap");
+    const std::string join = Reader::property(el, "stroke-linejoin");
+    const std::string dashes = Reader::property(el, "stroke-dasharray");
+    if (cap != "round")
+        rd.fail("stroke-linecap '" + (cap.empty() ? "butt" : cap.substr(0, 40)) +
+                    "' is not supported: strokes need round caps",
+                el);
+    if (join != "round")
+        rd.fail("stroke-linejoin '" + (join.empty() ? "miter" : join.substr(0, 40)) +
+                    "' is not supported: strokes need round joins",
+                el);
+    if (!dashes.empty() && dashes != "none") rd.fail("dashed strokes are not supported", el);
+}
+
+// How much the transform t scales lengths; refused unless it scales every direction alike (a
+// stroke under it would no longer be of one width).
+double strokeScale(const Affine& t, const XMLElement* el, Reader& rd) {
+    const double scale = std::sqrt(std::fabs(t.a * t.d - t.b * t.c));
+    const double tol = 1e-6 * (std::fabs(t.a) + std::fabs(t.b) + std::fabs(t.c) + std::fabs(t.d));
+    const bool rotation = std::fabs(t.a - t.d) <= tol && std::fabs(t.b + t.c) <= tol;
+    const bool mirrored = std::fabs(t.a + t.d) <= tol && std::fabs(t.b - t.c) <= tol;
+    if (!(rotation || mirrored))
+        rd.fail("a stroke under a transform that scales unevenly is not supported", el);
+    return scale;
+}
+
 // The most points all flat paths of a file may have together (each is 16 bytes in memory).
 constexpr size_t kMaxFlatPoints = size_t(1) << 24;
 
-// A <path> filled with a plain colour as a flat shape (nonzero rule; fill-opacity as its
-// alpha), its points carried to the canvas; `layer` as FlatShape::layer.
-FlatShape readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root,
-                       const Canvas& canvas, size_t& points, Reader& rd) {
-    FlatShape shape;
-    shape.layer = layer;
-    parseHexColour(Reader::property(el, "fill"), shape.col);
-    const std::string opacity = Reader::property(el, "fill-opacity");
-    if (!opacity.empty()) {
-        char* end = nullptr;
-        const double a = std::strtod(opacity.c_str(), &end);
-        if (end == opacity.c_str() || *end || !(a >= 0 && a <= 1))
-            rd.fail("fill-opacity is not a number in 0-1", el);
-        shape.alpha = a;
-    }
+// Parses a path's data in either layout (filled: closed cycles; stroked: centrelines) and
+// carries its points to the canvas by t.
+std::vector<std::vector<Vec2>> readPathData(const XMLElement* el, bool centrelines, const Affine& t,
+                                            size_t& points, Reader& rd) {
     const char* d = el->Attribute("d");
+    const size_t room = kMaxFlatPoints - std::min(points, kMaxFlatPoints);
+    std::vector<std::vector<Vec2>> subpaths;
     std::string problem;
-    if (!parseShapePathData(d ? d : "", SvgReadLimits::maxCoordinate,
-                            kMaxFlatPoints - std::min(points, kMaxFlatPoints), shape.subpaths,
-                            problem))
-        rd.fail(problem, el);
-    const Affine t = compose(canvas.viewBoxShift, shapeTransform(el, root, rd));
-    for (std::vector<Vec2>& path : shape.subpaths) {
+    const bool parsed =
+        centrelines
+            ? parseCentrelinePathData(d ? d : "", SvgReadLimits::maxCoordinate, room, subpaths,
+                                      problem)
+            : parseShapePathData(d ? d : "", SvgReadLimits::maxCoordinate, room, subpaths, problem);
+    if (!parsed) rd.fail(problem, el);
+    for (std::vector<Vec2>& path : subpaths) {
         points += path.size();
         for (Vec2& p : path) {
             p = t.apply(p);
@@ -658,7 +714,32 @@ FlatShape readFlatPath(const XMLElement* el, size_t layer, const XMLElement* roo
                 rd.fail("path coordinates reach beyond the limit of 1e7 after its transforms", el);
         }
     }
-    return shape;
+    return subpaths;
+}
+
+// A <path> filled with a plain colour as a flat shape (nonzero rule; fill-opacity as its
+// alpha), and one stroked with a plain colour as a stroked shape (stroke-width, carried by the
+// transforms, as its width; stroke-opacity as its alpha), in that order, which is SVG's paint
+// order; points carried to the canvas; `layer` as FlatShape::layer.
+void readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root, const Canvas& canvas,
+                  size_t& points, Reader& rd, std::vector<FlatShape>& shapes) {
+    const Affine t = compose(canvas.viewBoxShift, shapeTransform(el, root, rd));
+    FlatShape shape;
+    shape.layer = layer;
+    if (parseHexColour(Reader::property(el, "fill"), shape.col)) {
+        shape.alpha = readOpacity(el, "fill-opacity", rd);
+        shape.subpaths = readPathData(el, false, t, points, rd);
+        shapes.push_back(shape);
+    }
+    if (parseHexColour(Reader::property(el, "stroke"), shape.col)) {
+        requireRoundSolidStroke(el, rd);
+        shape.alpha = readOpacity(el, "stroke-opacity", rd);
+        shape.strokeWidth = readStrokeWidth(el, rd) * strokeScale(t, el, rd);
+        if (!(shape.strokeWidth > 0 && shape.strokeWidth <= kMaxStrokeWidth))
+            rd.fail("stroke-width out of range after its transforms", el);
+        shape.subpaths = readPathData(el, true, t, points, rd);
+        shapes.push_back(shape);
+    }
 }
 
 // Our writer grows a mesh beyond its outline path (svg_grid_outset.h) and says so in
@@ -778,16 +859,17 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
             if (index.painted[k] == use.shape) ++usesBefore[k + 1];
     }
     for (size_t k = 0; k < index.painted.size(); ++k) usesBefore[k + 1] += usesBefore[k];
-    const auto outlined = std::count_if(index.flat.begin(), index.flat.end(),
-                                        [](const auto& f) { return f.first->Attribute("d"); });
-    if (static_cast<uint64_t>(outlined) > limits.maxShapes)
+    uint64_t outlined = 0;
+    for (const auto& f : index.flat)
+        if (f.first->Attribute("d")) outlined += static_cast<uint64_t>(flatShapesOf(f.first));
+    if (outlined > limits.maxShapes)
         throw Error("SVG has " + std::to_string(outlined) + " flat shapes, over the limit of " +
                         std::to_string(limits.maxShapes),
                     fileName);
     size_t points = 0;
     for (const auto& [el, painted] : index.flat)
         if (el->Attribute("d"))
-            doc.shapes.push_back(readFlatPath(el, usesBefore[painted], root, canvas, points, rd));
+            readFlatPath(el, usesBefore[painted], root, canvas, points, rd, doc.shapes);
     setDocumentSize(doc, canvas, limits, fileName);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("meshes and shapes read are not valid: " + problem, fileName);

@@ -81,21 +81,16 @@ void appendLine(PathText& text, StepPoint step) {
     text.point(step);
 }
 
-// One closed subpath: straight segments as lines (consecutive ones in one direction merged,
-// the closing run left to z), the others as cubics.
-void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& current, bool first) {
+// Writes the lines and cubics of segments [0, segments) of `path` (segment m from path[3m] via
+// path[3m+1], path[3m+2] to path[(3m+3) % size]), from the current point `at`: straight ones
+// as lines, consecutive ones in one direction merged, zero-length ones left out. The last run
+// of lines is left in `run` (the caller writes it or lets z draw it); false when nothing was
+// written nor left.
+bool appendSegments(PathText& text, const std::vector<Vec2>& path, size_t segments, StepPoint& at,
+                    StepPoint& run) {
     const size_t n = path.size();
-    const StepPoint start = steps(path[0]);
-    if (first) {
-        text.command('M');
-        text.point(start);
-    } else {
-        text.command('m');
-        text.point(start - current);
-    }
-    StepPoint run;  // the lines not yet written, from `at`
-    StepPoint at = start;
-    for (size_t k = 0; k < n; k += 3) {
+    bool drawn = false;
+    for (size_t k = 0; k < 3 * segments; k += 3) {
         const StepPoint a = steps(path[k]), h1 = steps(path[k + 1]), h2 = steps(path[k + 2]);
         const StepPoint b = steps(path[(k + 3) % n]);
         if (isLine(a, h1, h2, b)) {
@@ -107,6 +102,7 @@ void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& cur
                 run = {};
             }
             run = run + step;
+            drawn = true;
             continue;
         }
         if (run.x != 0 || run.y != 0) {
@@ -119,15 +115,87 @@ void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& cur
         text.point(h2 - at);
         text.point(b - at);
         at = b;
+        drawn = true;
     }
+    return drawn;
+}
+
+// Starts a subpath at `start`: absolute for the document's first, else relative.
+void appendMove(PathText& text, StepPoint start, StepPoint current, bool first) {
+    if (first) {
+        text.command('M');
+        text.point(start);
+    } else {
+        text.command('m');
+        text.point(start - current);
+    }
+}
+
+// One closed subpath (a cycle of cubics), the closing run of lines left to z.
+void appendSubpath(PathText& text, const std::vector<Vec2>& path, StepPoint& current, bool first) {
+    const StepPoint start = steps(path[0]);
+    appendMove(text, start, current, first);
+    StepPoint at = start, run;
+    appendSegments(text, path, path.size() / 3, at, run);
     text.command('z');  // draws the run of lines left, which ends at the start
     current = start;  // after z the current point is the subpath's start
 }
 
-void appendOpacity(std::string& out, double alpha) {
+// One centreline (3n + 1 points): closed ones end in z as a closed subpath does, open ones
+// with their last run of lines. One whose segments all round to nothing is a dot, written as
+// a line of length 0 (round caps paint it; a lone moveto would paint nothing).
+void appendCentreline(PathText& text, const std::vector<Vec2>& path, StepPoint& current,
+                      bool first) {
+    const StepPoint start = steps(path[0]);
+    appendMove(text, start, current, first);
+    StepPoint at = start, run;
+    if (!appendSegments(text, path, (path.size() - 1) / 3, at, run)) {
+        text.command('h');
+        text.number(0);
+        current = start;
+        return;
+    }
+    if (path.back() == path.front()) {
+        text.command('z');
+        current = start;
+        return;
+    }
+    if (run.x != 0 || run.y != 0) {
+        appendLine(text, run);
+        at = at + run;
+    }
+    current = at;
+}
+
+// The d attribute's text of a stroked shape's centrelines.
+void appendCentrelinePathData(std::string& out, const std::vector<std::vector<Vec2>>& subpaths) {
+    PathText text(out);
+    StepPoint current;
+    bool first = true;
+    for (const std::vector<Vec2>& path : subpaths) {
+        if (path.size() < 4) continue;
+        appendCentreline(text, path, current, first);
+        first = false;
+    }
+}
+
+void appendHexColour(std::string& out, Vec3 col) {
+    static const char* hex = "0123456789abcdef";
+    out += '#';
+    for (int k = 0; k < 3; ++k) {
+        const long v = std::lround(std::fmin(1.0, std::fmax(0.0, col[k])) * 255.0);
+        out += hex[v >> 4];
+        out += hex[v & 15];
+    }
+}
+
+// ` name="alpha"`, e.g. fill-opacity.
+void appendOpacity(std::string& out, const char* name, double alpha) {
     char text[32];
     std::snprintf(text, sizeof text, "%.4g", std::fmin(1.0, std::fmax(0.0, alpha)));
-    out += " fill-opacity=\"";
+    out += ' ';
+    out += name;
+    out += "=\"";
     out += text;
     out += '"';
 }
@@ -140,10 +208,14 @@ int hexDigit(char c) {
 }
 
 // Parses path data into subpaths; a small state machine over commands and their numbers.
+// `centrelines`: subpaths in the layout of a stroked shape, else closed cycles.
 class PathParser {
 public:
-    PathParser(const std::string& d, double maxCoordinate, size_t maxPoints)
-        : p_(d.c_str()), maxCoordinate_(maxCoordinate), maxPoints_(maxPoints) {}
+    PathParser(const std::string& d, double maxCoordinate, size_t maxPoints, bool centrelines)
+        : p_(d.c_str()),
+          maxCoordinate_(maxCoordinate),
+          maxPoints_(maxPoints),
+          centrelines_(centrelines) {}
 
     bool run(std::vector<std::vector<Vec2>>& subpaths, std::string& problem) {
         char cmd = 0;
@@ -155,7 +227,7 @@ public:
                 if (std::strchr("MmLlHhVvCcZz", cmd) == nullptr)
                     return fail(problem, std::string("unsupported path command '") + cmd + "'");
                 if (cmd == 'Z' || cmd == 'z') {
-                    close();
+                    end(true);
                     continue;
                 }
             } else if (cmd == 0 || cmd == 'Z' || cmd == 'z') {
@@ -165,7 +237,7 @@ public:
             if (cmd == 'M') cmd = 'L';  // implicit repetitions of a moveto are linetos
             if (cmd == 'm') cmd = 'l';
         }
-        close();
+        end(false);
         subpaths = std::move(done_);
         return true;
     }
@@ -209,7 +281,7 @@ private:
         Vec2 a, b, e;
         if (c == 'M') {
             if (!point(e, rel, problem)) return false;
-            close();
+            end(false);
             current_ = start_ = e;
             return true;
         }
@@ -239,10 +311,12 @@ private:
         return true;
     }
 
-    // Ends the open subpath: the last point closes onto the first (a line added when they
-    // differ); a subpath without segments is dropped.
-    void close() {
-        if (open_.size() >= 4) {
+    // Ends the open subpath, by z (`closed`) or not. Filled subpaths always close: the last
+    // point closes onto the first (a line added when they differ). A centreline closes only by
+    // z, ending exactly on its first point (a line added when it ends elsewhere); else it stays
+    // open. A subpath without segments is dropped.
+    void end(bool closed) {
+        if (open_.size() >= 4 && (closed || !centrelines_)) {
             const Vec2 s = open_.front(), last = open_.back();
             // Relative coordinates add up to the start only up to rounding.
             const double tol = 1e-7 * (1 + std::fabs(s.x) + std::fabs(s.y));
@@ -252,8 +326,9 @@ private:
                 open_.insert(open_.end(),
                              {last + (1.0 / 3) * (s - last), last + (2.0 / 3) * (s - last)});
             }
-            done_.push_back(std::move(open_));
+            if (centrelines_) open_.push_back(s);
         }
+        if (open_.size() >= 4) done_.push_back(std::move(open_));
         open_.clear();
         current_ = start_;
     }
@@ -261,6 +336,7 @@ private:
     const char* p_;
     const double maxCoordinate_;
     const size_t maxPoints_;
+    const bool centrelines_;
     size_t points_ = 0;
     Vec2 current_, start_;
     std::vector<Vec2> open_;
@@ -270,15 +346,23 @@ private:
 }  // namespace
 
 void appendShapePath(std::string& out, const FlatShape& shape) {
-    static const char* hex = "0123456789abcdef";
-    out += "<path fill=\"#";
-    for (int k = 0; k < 3; ++k) {
-        const long v = std::lround(std::fmin(1.0, std::fmax(0.0, shape.col[k])) * 255.0);
-        out += hex[v >> 4];
-        out += hex[v & 15];
+    if (shape.stroked()) {
+        out += "<path fill=\"none\" stroke=\"";
+        appendHexColour(out, shape.col);
+        out += '"';
+        if (shape.alpha < 1) appendOpacity(out, "stroke-opacity", shape.alpha);
+        // Never 0, which would paint nothing: the narrowest stroke written is 0.01 px.
+        out += " stroke-width=\"";
+        appendSvgNumber(out, std::fmax(shape.strokeWidth, 0.01), false, kDecimals);
+        out += "\" stroke-linecap=\"round\" stroke-linejoin=\"round\" d=\"";
+        appendCentrelinePathData(out, shape.subpaths);
+        out += "\"/>\n";
+        return;
     }
+    out += "<path fill=\"";
+    appendHexColour(out, shape.col);
     out += '"';
-    if (shape.alpha < 1) appendOpacity(out, shape.alpha);
+    if (shape.alpha < 1) appendOpacity(out, "fill-opacity", shape.alpha);
     out += " d=\"";
     appendClosedPathData(out, shape.subpaths);
     out += "\"/>\n";
@@ -297,7 +381,12 @@ void appendClosedPathData(std::string& out, const std::vector<std::vector<Vec2>>
 
 bool parseShapePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
                         std::vector<std::vector<Vec2>>& subpaths, std::string& problem) {
-    return PathParser(d, maxCoordinate, maxPoints).run(subpaths, problem);
+    return PathParser(d, maxCoordinate, maxPoints, false).run(subpaths, problem);
+}
+
+bool parseCentrelinePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
+                             std::vector<std::vector<Vec2>>& subpaths, std::string& problem) {
+    return PathParser(d, maxCoordinate, maxPoints, true).run(subpaths, problem);
 }
 
 bool parseHexColour(const std::string& text, Vec3& colour) {

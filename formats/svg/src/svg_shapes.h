@@ -1,5 +1,7 @@
-// Flat shapes (FlatShape) in SVG: written as <path fill="#rrggbb" d="..."/> with compact
-// relative path data at 1/100 px, read back from such paths.
+// Flat shapes (FlatShape) in SVG: written as <path fill="#rrggbb" d="..."/> (a stroked shape as
+// <path fill="none" stroke="#rrggbb" stroke-width="W" stroke-linecap="round"
+// stroke-linejoin="round" d="..."/>) with compact relative path data at 1/100 px, read back
+// from such paths.
 #pragma once
 
 #include <string>
@@ -12,7 +14,8 @@ namespace gm {
 // Appends the shape's <path> element and a newline. Points are rounded to 1/100 px once and
 // written as differences of the rounded values, so rounding never accumulates; cubics whose
 // handles lie at a third and two thirds of their chord are written as lines, and a closing line
-// as "z" alone.
+// as "z" alone. A stroked shape's closed centrelines end in "z", its open ones do not; its
+// width is written to 1/100 px, at least 0.01.
 void appendShapePath(std::string& out, const FlatShape& shape);
 
 // Appends path data (the d attribute's text) for closed subpaths in FlatShape's layout (point,
@@ -26,6 +29,11 @@ void appendClosedPathData(std::string& out, const std::vector<std::vector<Vec2>>
 // `problem` set.
 bool parseShapePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
                         std::vector<std::vector<Vec2>>& subpaths, std::string& problem);
+
+// The same as the centrelines of a stroked shape: a subpath closed by z ends on its first point
+// (a line added when it ends elsewhere), one that is not stays open.
+bool parseCentrelinePathData(const std::string& d, double maxCoordinate, size_t maxPoints,
+                             std::vector<std::vector<Vec2>>& subpaths, std::string& problem);
 
 // "#rrggbb" or "#rgb" as sRGB 0–1; false for anything else (named colours, rgb(), none, url).
 bool parseHexColour(const std::string& text, Vec3& colour);

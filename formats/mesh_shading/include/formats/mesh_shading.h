@@ -59,14 +59,18 @@ std::string encodeShadingText(const MeshShading& shading, size_t first, size_t c
 // "-0"; independent of the C locale.
 std::string formatDecimal(double value, int decimals);
 
-// The operators of a page description language that fill a path.
+// The operators of a page description language that fill or stroke a path.
 struct PathOperators {
-    const char* setColor;  // after "r g b": "rg" (PDF), "setrgbcolor" (PostScript)
-    const char* moveTo;    // "m", "moveto"
-    const char* lineTo;    // "l", "lineto"
-    const char* curveTo;   // "c", "curveto"
-    const char* close;     // "h", "closepath"
-    const char* fill;      // nonzero fill: "f", "fill"
+    const char* setColor;        // fill colour after "r g b": "rg" (PDF), "setrgbcolor" (PS)
+    const char* moveTo;          // "m", "moveto"
+    const char* lineTo;          // "l", "lineto"
+    const char* curveTo;         // "c", "curveto"
+    const char* close;           // "h", "closepath"
+    const char* fill;            // nonzero fill: "f", "fill"
+    const char* setStrokeColor;  // after "r g b": "RG", "setrgbcolor"
+    const char* setLineWidth;    // after the width: "w", "setlinewidth"
+    const char* roundCapsJoins;  // "1 J 1 j", "1 setlinecap 1 setlinejoin"
+    const char* stroke;          // "S", "stroke"
 };
 extern const PathOperators kPdfPathOperators;
 extern const PathOperators kPostScriptPathOperators;
@@ -75,6 +79,12 @@ extern const PathOperators kPostScriptPathOperators;
 // coordinates to 1/1000 px, lines under 255 characters; cubics whose handles lie at a third and
 // two thirds of their chord as lines.
 std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops);
+
+// A stroked shape's centrelines stroked in its colour (opaque, as above), its width to 1/1000
+// px, round caps and joins; closed centrelines closed (their last line left to the close),
+// open ones not. The line width, caps and joins it sets stay set: the caller brackets it (q and
+// Q, gsave and grestore).
+std::string shapeStrokeOperators(const FlatShape& shape, const PathOperators& ops);
 
 // zlib-format (RFC 1950) compression, what /FlateDecode reads.
 std::string deflateBytes(const std::string& bytes);
