@@ -111,6 +111,8 @@ const char* const kConvertHelp =
     "                          out where it lowers the error most (each region converted at\n"
     "                          several budgets; --max-error still stops each region);\n"
     "                          0: every region one flat colour, no mesh (a flat trace)\n"
+    "  --no-strokes            with --segment: thin lines and rings as filled outlines, not\n"
+    "                          as strokes along their centrelines\n"
     "  --threads N             regions converted at once (default: all cores)\n"
     GRADMESH_COMMON_OPTIONS;
 

@@ -13,6 +13,7 @@
 #include "converters/neck.h"
 #include "converters/regions.h"
 #include "flat_backdrop.h"
+#include "thin_on_top.h"
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
 #include "meshcore/render.h"
@@ -583,8 +584,16 @@ private:
                 flatOptions.outlineSmoothing = flatOptions.inkOutlineSmoothing;
                 flatOptions.blendEachSide = true;
             }
-            out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
-                                         drawnLaterOrNone(k), flatOptions)};
+            if (options_.strokes) {
+                StrokeOptions strokeOptions = options_.stroke;
+                strokeOptions.curveTolerance *= coarser;
+                strokeOptions.maxWrongShare *= coarser;
+                out.shapes = traceStrokes(image_, own, flat_[k].col, drawnLaterOrNone(k),
+                                          strokeOptions);
+            }
+            if (out.shapes.empty())
+                out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
+                                             drawnLaterOrNone(k), flatOptions)};
         } catch (const Error& e) {
             out.fallback = "as a flat shape: " + e.reason();
             return out;
@@ -592,7 +601,7 @@ private:
         out.fate = RegionFate::Flat;
         out.report.pixels = own.pixelCount;
         out.report.holes = static_cast<int>(own.holes.size());
-        out.report.part = "flat";
+        out.report.part = out.shapes.front().stroked() ? "stroke" : "flat";
         out.report.error = flat_[k].all;
         return out;
     }
@@ -824,6 +833,42 @@ bool segmentFiner(const RgbaImage& image, const SegmentConvertOptions& finer,
     return kept;
 }
 
+// Thin flat regions (at most options.stroke.maxWidth thick) drawn after the other regions
+// before the ink lines, where they become strokes on top; then the flat regions of one colour
+// that a thin one or an ink line parted merge (thin_on_top.h). Returns whether the regions
+// may have changed.
+bool liftThinFlatRegions(std::vector<Region>& regions, size_t& firstInk,
+                         const SegmentConvertOptions& options, const RegionConverter& converter,
+                         SegmentConvertReport& segmentReport) {
+    std::vector<char> thin(regions.size(), 0), flat(regions.size(), 0);
+    std::vector<Vec3> colours;
+    size_t thinCount = 0;
+    for (size_t k = 0; k < regions.size(); ++k) {
+        flat[k] = converter.isFlat(k);
+        colours.push_back(converter.flatColour(k));
+        thin[k] = k > 0 && k < firstInk && flat[k] &&
+                  regions[k].pixelCount >= options.stroke.minPixels &&
+                  regionThickness(regions[k]) <= options.stroke.maxWidth;
+        thinCount += thin[k];
+    }
+    if (thinCount == 0 && firstInk == regions.size()) return false;
+    // The flat marks and colours in the new order: the others, the thin ones, the ink lines.
+    std::vector<char> liftedFlat;
+    std::vector<Vec3> liftedColours;
+    for (int pass = 0; pass < 3; ++pass)
+        for (size_t k = 0; k < regions.size(); ++k)
+            if ((k >= firstInk ? 2 : thin[k] ? 1 : 0) == pass) {
+                liftedFlat.push_back(flat[k]);
+                liftedColours.push_back(colours[k]);
+            }
+    const size_t firstThin = liftThinRegions(regions, firstInk, thin);
+    segmentReport.liftedThin = static_cast<int>(thinCount);
+    segmentReport.mergedAcrossThin = static_cast<int>(
+        mergeAcrossThin(regions, firstThin, firstInk, liftedFlat, liftedColours,
+                        options.convert.maxError / 255));
+    return true;
+}
+
 }  // namespace
 
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
@@ -873,6 +918,10 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
         }
         segmentReport.mergedIntoBackdrop = static_cast<int>(merged);
     }
+
+    if (used.strokes && used.flatShapes && liftThinFlatRegions(regions, firstInk, used, *converter,
+                                                               segmentReport))
+        converter = makeConverter(used);
 
     auto t0 = Clock::now();
     std::vector<RegionOutcome> outcomes;

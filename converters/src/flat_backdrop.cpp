@@ -11,25 +11,6 @@ namespace gm {
 
 namespace {
 
-// Per region, the regions it touches (4-neighbours), by the pixels each is drawn at first.
-std::vector<std::set<int>> touching(const std::vector<Region>& regions) {
-    const std::vector<int> at = firstRegionAt(regions);
-    const int w = regions.front().width, h = regions.front().height;
-    std::vector<std::set<int>> out(regions.size());
-    auto link = [&](int a, int b) {
-        if (a < 0 || b < 0 || a == b) return;
-        out[static_cast<size_t>(a)].insert(b);
-        out[static_cast<size_t>(b)].insert(a);
-    };
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t p = static_cast<size_t>(y) * w + x;
-            if (x + 1 < w) link(at[p], at[p + 1]);
-            if (y + 1 < h) link(at[p], at[p + static_cast<size_t>(w)]);
-        }
-    return out;
-}
-
 bool within(const Vec3& a, const Vec3& b, double tolerance) {
     for (int c = 0; c < 3; ++c)
         if (std::fabs(a[c] - b[c]) > tolerance) return false;
@@ -45,7 +26,7 @@ size_t mergeIntoBackdrop(std::vector<Region>& regions, size_t firstInk,
         return k > 0 && static_cast<size_t>(k) < firstInk && within(colours[k], colours[0], tolerance);
     };
     // The regions reached from the first through mergeable ones.
-    const std::vector<std::set<int>> neighbours = touching(regions);
+    const std::vector<std::set<int>> neighbours = touchingRegions(regions);
     std::vector<char> merged(regions.size(), 0);
     std::deque<int> queue{0};
     while (!queue.empty()) {

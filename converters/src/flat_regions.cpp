@@ -8,6 +8,7 @@
 
 #include "converters/regions.h"
 #include "meshcore/error.h"
+#include "meshcore/geometry.h"
 
 namespace gm {
 
@@ -119,15 +120,18 @@ double blendResidual(const Vec3& c, const Vec3& col, const Vec3& other) {
 // The colour that pixel (x, y) blends with the shape's colour `col`, among the pixels within
 // `reach` that the shape does not reach (`grown` 0): the one furthest from col; or, with
 // `eachSide` (a line between two regions, which blends with each on its own side), of those
-// at least 0.25 (0–1 units) from col the one that leaves the least residual. `col` itself
+// at least 0.25 (0–1 units) from col the one that leaves the least residual, and of those
+// that leave about as little the one furthest from col (a pixel of the same blend explains
+// the pixel as well as the colour beyond it, and would read as none of col). `col` itself
 // when there is no such pixel.
 Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int x, int y,
                   int reach, const Vec3& col, bool eachSide) {
     const int w = image.width, h = image.height;
-    constexpr double kClearContrast = 0.25;
+    constexpr double kClearContrast = 0.25, kAsLittle = 0.02;
     const Vec3 c = colourAt(image, static_cast<size_t>(y) * w + x);
-    Vec3 best = col, furthest = col;
-    double bestResidual = INFINITY, furthestDistance = -1;
+    Vec3 furthest = col;
+    double furthestDistance = -1;
+    std::vector<std::pair<double, Vec3>> candidates;  // residual, colour
     for (int dy = -reach; dy <= reach; ++dy)
         for (int dx = -reach; dx <= reach; ++dx) {
             const int xx = x + dx, yy = y + dy;
@@ -137,19 +141,23 @@ Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int
             const Vec3 v = colourAt(image, q);
             const double d = dot3(v - col, v - col);
             if (d > furthestDistance) furthestDistance = d, furthest = v;
-            if (d < kClearContrast * kClearContrast) continue;
-            const double r = blendResidual(c, col, v);
-            if (r < bestResidual) bestResidual = r, best = v;
+            if (eachSide && d >= kClearContrast * kClearContrast)
+                candidates.push_back({blendResidual(c, col, v), v});
         }
-    return eachSide && std::isfinite(bestResidual) ? best : furthest;
+    if (!eachSide || candidates.empty()) return furthest;
+    double least = INFINITY;
+    for (const auto& [r, v] : candidates) least = std::min(least, r);
+    Vec3 best = col;
+    double bestDistance = -1;
+    for (const auto& [r, v] : candidates) {
+        const double d = dot3(v - col, v - col);
+        if (r <= least + kAsLittle && d > bestDistance) bestDistance = d, best = v;
+    }
+    return best;
 }
 
-// How much of the shape's colour `col` each pixel holds, for tracing its outline between pixel
-// centres: 1 where the shape reaches under later regions (`grown` and `under`, or grown beyond
-// `own`: they paint over it), else the share of `col` in the pixel's colour against its blend
-// partner within two pixels (blendPartner; its anti-aliased border blends the two); a pixel
-// with no such neighbour, or whose neighbours' colour is too close to `col` to tell a share,
-// is 1 in the region and 0 outside it.
+}  // namespace
+
 Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                        const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
                        const Vec3& col, bool eachSide) {
@@ -180,6 +188,8 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
         }
     return c;
 }
+
+namespace {
 
 Vec2 unit(Vec2 v) {
     const double n = norm(v);
@@ -535,6 +545,101 @@ std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double toler
         const size_t b = c + 1 < corners.size() ? corners[c + 1] : corners.front() + n;
         fitter.fit(a, b, unit(at(a + 1) - at(a)), unit(at(b + n - 1) - at(b)), out);
     }
+    return out;
+}
+
+namespace {
+
+// The chord direction from pts[k] to the point `reach` pixels along the polyline (step +1) or
+// back along it (-1), stopping at index `limit`.
+Vec2 chordFrom(const std::vector<Vec2>& pts, size_t k, int step, size_t limit, double reach) {
+    size_t q = k;
+    while (q != limit && norm(pts[q] - pts[k]) < reach) q = step > 0 ? q + 1 : q - 1;
+    return unit(pts[q] - pts[k]);
+}
+
+// The corners of an open polyline (points a pixel apart or less): where it turns more than
+// `cornerAngle` between the chords reaching `reach` pixels before and after, the sharpest within
+// `reach` of each other; each moved to where the chords' lines meet, so that the corner stays
+// sharp where the trace rounded it.
+std::vector<size_t> openCorners(std::vector<Vec2>& pts, double cornerAngle, double reach) {
+    const size_t last = pts.size() - 1;
+    std::vector<double> turn(pts.size(), 0);
+    for (size_t k = 1; k < last; ++k)
+        turn[k] = std::acos(std::clamp(
+            -dot(chordFrom(pts, k, -1, 0, reach), chordFrom(pts, k, +1, last, reach)), -1.0,
+            1.0));
+    std::vector<size_t> corners;
+    for (size_t k = 1; k < last; ++k) {
+        if (turn[k] < cornerAngle) continue;
+        bool sharpest = true;
+        for (size_t q = k > 3 * reach ? k - static_cast<size_t>(3 * reach) : 1;
+             q < std::min(last, k + static_cast<size_t>(3 * reach) + 1) && sharpest; ++q)
+            if (norm(pts[q] - pts[k]) <= reach && q != k &&
+                (turn[q] > turn[k] || (turn[q] == turn[k] && q < k)))
+                sharpest = false;
+        if (sharpest) corners.push_back(k);
+    }
+    // Each corner where its arms' lines meet (from the points reach to 3·reach pixels either
+    // side), and the rounded points around it dropped.
+    std::vector<uint8_t> drop(pts.size(), 0);
+    for (size_t c : corners) {
+        const size_t a = c > 3 * reach ? c - static_cast<size_t>(3 * reach) : 0;
+        const size_t b = std::min(last, c + static_cast<size_t>(3 * reach));
+        const Vec2 pa = pts[a], da = chordFrom(pts, a, +1, c, reach);
+        const Vec2 pb = pts[b], db = chordFrom(pts, b, -1, c, reach);
+        const double den = cross(da, db);
+        if (std::fabs(den) < 1e-6) continue;
+        const Vec2 meet = pa + (cross(pb - pa, db) / den) * da;
+        if (norm(meet - pts[c]) > reach) continue;
+        pts[c] = meet;
+        for (size_t q = a + 1; q < b; ++q)
+            if (q != c && norm(pts[q] - meet) < reach) drop[q] = 1;
+    }
+    std::vector<Vec2> kept;
+    std::vector<size_t> keptCorners;
+    for (size_t k = 0, next = 0; k < pts.size(); ++k) {
+        if (drop[k]) continue;
+        if (next < corners.size() && corners[next] == k) keptCorners.push_back(kept.size()), ++next;
+        while (next < corners.size() && corners[next] < k) ++next;
+        kept.push_back(pts[k]);
+    }
+    pts = std::move(kept);
+    return keptCorners;
+}
+
+}  // namespace
+
+std::vector<Vec2> fitOpenCubics(const std::vector<Vec2>& polyline, double tolerance) {
+    std::vector<Vec2> out;
+    if (polyline.size() < 2) return out;
+    std::vector<size_t> vertexAt;
+    std::vector<Vec2> pts = densify(polyline, vertexAt);
+    pts.resize(vertexAt.back() + 1);  // densify closes the polygon; an open line ends here
+    const size_t last = pts.size() - 1;
+    if (last == 0) {
+        out.insert(out.end(), {pts[0], pts[0], pts[0], pts[0]});
+        return out;
+    }
+    // Each piece's end tangents along the chord to the point a few pixels in: the first step
+    // alone turns with every tenth of a pixel the end point is off.
+    constexpr double kTangentReach = 3, kCornerReach = 3;
+    constexpr double kCornerAngle = 45 * M_PI / 180;
+    std::vector<Vec2> cornered = pts;
+    const std::vector<size_t> corners = openCorners(cornered, kCornerAngle, kCornerReach);
+    pts = densify(cornered, vertexAt);  // the points a pixel apart again where some dropped
+    pts.resize(vertexAt.back() + 1);
+    std::vector<size_t> ends{0};
+    for (size_t c : corners) ends.push_back(vertexAt[c]);
+    const size_t end = pts.size() - 1;
+    ends.push_back(end);
+    CubicFitter fitter(pts, tolerance);
+    for (size_t e = 0; e + 1 < ends.size(); ++e) {
+        const size_t a = ends[e], b = ends[e + 1];
+        fitter.fit(a, b, chordFrom(pts, a, +1, b, kTangentReach),
+                   chordFrom(pts, b, -1, a, kTangentReach), out);
+    }
+    out.push_back(pts[end]);
     return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <set>
 
 #include "meshcore/error.h"
 #include "meshcore/geometry.h"
@@ -628,6 +629,24 @@ std::vector<int> firstRegionAt(const std::vector<Region>& regions) {
         for (size_t p = 0; p < at.size(); ++p)
             if (regions[k].mask[p]) at[p] = static_cast<int>(k);
     return at;
+}
+
+std::vector<std::set<int>> touchingRegions(const std::vector<Region>& regions) {
+    const std::vector<int> at = firstRegionAt(regions);
+    const int w = regions.front().width, h = regions.front().height;
+    std::vector<std::set<int>> out(regions.size());
+    auto link = [&](int a, int b) {
+        if (a < 0 || b < 0 || a == b) return;
+        out[static_cast<size_t>(a)].insert(b);
+        out[static_cast<size_t>(b)].insert(a);
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = static_cast<size_t>(y) * w + x;
+            if (x + 1 < w) link(at[p], at[p + 1]);
+            if (y + 1 < h) link(at[p], at[p + static_cast<size_t>(w)]);
+        }
+    return out;
 }
 
 PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h) {

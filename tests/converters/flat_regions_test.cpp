@@ -3,7 +3,9 @@
 #include "converters/flat_regions.h"
 
 #include <catch2/catch.hpp>
+
 #include <cmath>
+#include <set>
 
 #include "converters/convert_segments.h"
 #include "converters/regions.h"
@@ -126,8 +128,8 @@ TEST_CASE("a flat drawing converts into flat shapes and a far smaller SVG", "[fl
 TEST_CASE("a drawing of flat shapes holds no mesh, and its outlines coarsen with the target",
           "[flat][convert]") {
     // thin_lines.png: lines and rings 2-4 px wide on three flat panels. Every region is flat,
-    // so the first panel is the backdrop and there is no mesh (nor mesh script); a coarser
-    // --max-error loosens the outlines' fit.
+    // so the first panel is the backdrop and there is no mesh (nor mesh script); every line
+    // and ring is a stroke; a coarser --max-error loosens the fit.
     const RgbaImage drawing = readImage(std::string(GRADMESH_SAMPLES) + "/thin_lines.png");
     WriteOptions write;
     SegmentConvertOptions options;
@@ -143,8 +145,17 @@ TEST_CASE("a drawing of flat shapes holds no mesh, and its outlines coarsen with
     CHECK(fine.flatBackdrop);
     CHECK(fineDoc.meshes.empty());
     CHECK(fineSvg.find("<script") == std::string::npos);
-    CHECK(fineSvg.size() < 16000);
-    CHECK(fine.convert.error.psnr > 35);
-    CHECK(coarseBytes < fineSvg.size() * 0.85);
+    // The 18 lines and rings, each a stroke (two pieces of one line may share one).
+    std::set<std::string> strokedColours;
+    for (const FlatShape& shape : fineDoc.shapes)
+        if (shape.stroked())
+            strokedColours.insert(std::to_string(std::lround(shape.col.r * 255)) + "," +
+                                  std::to_string(std::lround(shape.col.g * 255)) + "," +
+                                  std::to_string(std::lround(shape.col.b * 255)) + "/" +
+                                  std::to_string(std::lround(shape.strokeWidth)));
+    CHECK(strokedColours.size() >= 15);
+    CHECK(fineSvg.size() < 6000);
+    CHECK(fine.convert.error.psnr > 38);
+    CHECK(coarseBytes < fineSvg.size() * 0.95);
     CHECK(coarse.convert.error.meanAbs < 2);
 }

@@ -12,6 +12,7 @@
 
 #include "converters/convert_image.h"
 #include "converters/flat_regions.h"
+#include "converters/flat_strokes.h"
 #include "converters/neck.h"
 #include "converters/segment.h"
 
@@ -99,6 +100,10 @@ struct SegmentConvertOptions {
     double shadedShare = 0.5;
     int finerPatchesPerSegment = 10;
     FlatOptions flat;
+    // A flat region thin enough (a line, a ring) is drawn as strokes along its centreline
+    // (flat_strokes.h) when they match it; else as a filled outline. False: always filled.
+    bool strokes = true;
+    StrokeOptions stroke;
 };
 
 struct SegmentConvertReport {
@@ -118,6 +123,8 @@ struct SegmentConvertReport {
     bool flatBackdrop = false;   // every region flat: a flat rectangle instead of the base mesh
     int mergedIntoBackdrop = 0;  // flatOnly: regions of nearly the backdrop's colour that joined
                                  // it (flat_backdrop.h)
+    int liftedThin = 0;          // thin flat regions drawn after the others (thin_on_top.h)
+    int mergedAcrossThin = 0;    // ... and regions of one colour they parted, merged
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)
     FitError border;             // error over pixels with a 4-neighbour of another segment
     FitError interior;           // ... and over the others

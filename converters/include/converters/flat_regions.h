@@ -8,6 +8,7 @@
 
 #include "converters/colors.h"
 #include "converters/region.h"
+#include "converters/regions.h"
 #include "meshcore/gradient_mesh.h"
 #include "meshcore/image.h"
 
@@ -79,6 +80,17 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
 FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
                          const std::vector<uint8_t>& under, const FlatOptions& options = {});
 
+// How much of colour `col` each pixel holds, 0–1, for tracing an outline between pixel centres:
+// 1 where the shape reaches under later regions (`grown` and `under`, or grown beyond `own`:
+// they paint over it), else the share of `col` in the pixel's colour against its blend partner
+// within two pixels (an anti-aliased border blends the two; with `eachSide`, the neighbour
+// that explains the pixel best, else the one furthest from col); a pixel with no such
+// neighbour, or whose neighbours' colour is too close to `col` to tell a share, is 1 in the
+// region and 0 outside it. All masks are the image's size.
+Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
+                       const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
+                       const Vec3& col, bool eachSide);
+
 // The whole canvas as a flat shape of colour `col`, its outline clockwise on screen.
 FlatShape canvasRectangle(int width, int height, const Vec3& col);
 
@@ -87,5 +99,9 @@ FlatShape canvasRectangle(int width, int height, const Vec3& col);
 // The polygon is first smoothed as `smoothing` says.
 std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance,
                                   const OutlineSmoothing& smoothing = {});
+
+// An open polyline as cubic Béziers within `tolerance` pixels of it, in a stroked FlatShape's
+// centreline layout (3n + 1 points), joining smoothly.
+std::vector<Vec2> fitOpenCubics(const std::vector<Vec2>& polyline, double tolerance);
 
 }  // namespace gm

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,10 @@ PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h);
 // Per pixel, the index of the first of `regions` (all of one size) whose mask holds it: the
 // one drawn there first, when they are drawn in order; -1 where none does.
 std::vector<int> firstRegionAt(const std::vector<Region>& regions);
+
+// Per region (all of one size), the regions it touches (4-neighbours), by the pixels each is
+// drawn at first (firstRegionAt).
+std::vector<std::set<int>> touchingRegions(const std::vector<Region>& regions);
 
 // The mask (width*height, non-zero = in) grown by `radius` pixels (a square neighbourhood).
 std::vector<uint8_t> dilateMask(const std::vector<uint8_t>& mask, int w, int h, int radius);
