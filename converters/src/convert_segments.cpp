@@ -587,6 +587,7 @@ private:
             if (options_.strokes) {
                 StrokeOptions strokeOptions = options_.stroke;
                 strokeOptions.curveTolerance *= coarser;
+                strokeOptions.maxMismatch *= coarser;
                 strokeOptions.maxWrongShare *= coarser;
                 out.shapes = traceStrokes(image_, own, flat_[k].col, drawnLaterOrNone(k),
                                           strokeOptions);

@@ -23,7 +23,7 @@ struct StrokeOptions {
     // The strokes must draw the region's colour where the image holds it: the summed
     // difference of their coverage from the region's (its pixels' share of its colour),
     // over the pixels nothing drawn later covers, at most this per pixel of the region.
-    double maxMismatch = 0.25;
+    double maxMismatch = 0.06;
     // ... and the pixels where it differs by more than one half at most this share of the
     // region's pixels (where crossing lines meet, a stroke's even width draws them less
     // exactly than their outline does).
