@@ -9,21 +9,25 @@
 
 namespace gm {
 
-namespace {
-
-bool within(const Vec3& a, const Vec3& b, double tolerance) {
+bool coloursWithin(const Vec3& a, const Vec3& b, double tolerance) {
     for (int c = 0; c < 3; ++c)
         if (std::fabs(a[c] - b[c]) > tolerance) return false;
     return true;
 }
 
-}  // namespace
+void joinPixels(Region& into, const Region& from) {
+    for (size_t p = 0; p < into.mask.size(); ++p)
+        if (from.mask[p] && !into.mask[p]) {
+            into.mask[p] = 1;
+            ++into.pixelCount;
+        }
+}
 
 size_t mergeIntoBackdrop(std::vector<Region>& regions, size_t firstInk,
                          const std::vector<Vec3>& colours, double tolerance) {
     if (regions.size() < 2) return 0;
     const auto mergeable = [&](int k) {
-        return k > 0 && static_cast<size_t>(k) < firstInk && within(colours[k], colours[0], tolerance);
+        return k > 0 && static_cast<size_t>(k) < firstInk && coloursWithin(colours[k], colours[0], tolerance);
     };
     // The regions reached from the first through mergeable ones.
     const std::vector<std::set<int>> neighbours = touchingRegions(regions);
@@ -45,12 +49,7 @@ size_t mergeIntoBackdrop(std::vector<Region>& regions, size_t firstInk,
             kept.push_back(std::move(regions[k]));
             continue;
         }
-        Region& backdrop = kept.front();
-        for (size_t p = 0; p < backdrop.mask.size(); ++p)
-            if (regions[k].mask[p] && !backdrop.mask[p]) {
-                backdrop.mask[p] = 1;
-                ++backdrop.pixelCount;
-            }
+        joinPixels(kept.front(), regions[k]);
         ++count;
     }
     regions = std::move(kept);

@@ -16,6 +16,12 @@ namespace gm {
 // within `tolerance` of colours[0] in every channel and that touches regions[0] or a region
 // merged into it (4-neighbours). The merged regions leave `regions`, the others keep their
 // order. Returns how many were merged.
+// Whether colours a and b (0–1) lie within `tolerance` of each other in every channel.
+bool coloursWithin(const Vec3& a, const Vec3& b, double tolerance);
+
+// Adds the pixels of `from` to `into` (regions of one size).
+void joinPixels(Region& into, const Region& from);
+
 size_t mergeIntoBackdrop(std::vector<Region>& regions, size_t firstInk,
                          const std::vector<Vec3>& colours, double tolerance);
 

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "converters/regions.h"
+#include "flat_backdrop.h"
 
 namespace gm {
 
@@ -40,16 +41,6 @@ size_t liftThinRegions(std::vector<Region>& regions, size_t firstInk,
     return firstThin;
 }
 
-namespace {
-
-bool within(const Vec3& a, const Vec3& b, double tolerance) {
-    for (int c = 0; c < 3; ++c)
-        if (std::fabs(a[c] - b[c]) > tolerance) return false;
-    return true;
-}
-
-}  // namespace
-
 size_t mergeAcrossThin(std::vector<Region>& regions, size_t firstThin, size_t& firstInk,
                        const std::vector<char>& flat, const std::vector<Vec3>& colours,
                        double tolerance) {
@@ -68,7 +59,7 @@ size_t mergeAcrossThin(std::vector<Region>& regions, size_t firstThin, size_t& f
         for (size_t b = 0; b < beside.size(); ++b)
             for (size_t a = 0; a < b; ++a) {
                 const size_t k = beside[b];
-                if (into[k] == k && within(colours[k], colours[beside[a]], tolerance))
+                if (into[k] == k && coloursWithin(colours[k], colours[beside[a]], tolerance))
                     into[k] = beside[a];
             }
     }
@@ -77,7 +68,7 @@ size_t mergeAcrossThin(std::vector<Region>& regions, size_t firstThin, size_t& f
         for (int n : neighbours[t]) {
             const size_t a = static_cast<size_t>(n);
             if (a >= firstThin && a < t && into[t] == t && flat[a] && flat[t] &&
-                within(colours[t], colours[a], tolerance))
+                coloursWithin(colours[t], colours[a], tolerance))
                 into[t] = a;
         }
     size_t count = 0, mergedBeforeInk = 0;
@@ -92,12 +83,7 @@ size_t mergeAcrossThin(std::vector<Region>& regions, size_t firstThin, size_t& f
         mergedBeforeInk += k < firstInk;
         size_t root = into[k];
         while (into[root] != root) root = into[root];  // into[] points to earlier regions
-        Region& target = kept[keptAt[root]];
-        for (size_t p = 0; p < target.mask.size(); ++p)
-            if (regions[k].mask[p] && !target.mask[p]) {
-                target.mask[p] = 1;
-                ++target.pixelCount;
-            }
+        joinPixels(kept[keptAt[root]], regions[k]);
         ++count;
     }
     regions = std::move(kept);

@@ -54,17 +54,18 @@ void colour(OperatorText& text, Vec3 col, const char* setColor) {
     text.word(setColor);
 }
 
-// One centreline: its segments from the first point; a closed one's last segment, when a line,
-// left to the close (unless it is the only one).
-void centreline(OperatorText& text, const std::vector<Vec2>& path, const PathOperators& ops) {
+// One path of 3n + 1 points: its segments from the first point; a closed one's last segment,
+// when a line, left to the close (unless it is a centreline's only one: a filled outline of one
+// segment encloses nothing).
+void centreline(OperatorText& text, const std::vector<Vec2>& path, const PathOperators& ops,
+                bool closed, bool fillable = false) {
     const size_t last = path.size() - 1;
-    const bool closed = path[last] == path[0];
     text.point(path[0]);
     text.word(ops.moveTo);
     for (size_t k = 0; k < last; k += 3) {
         const Vec2 a = path[k], h1 = path[k + 1], h2 = path[k + 2], b = path[k + 3];
         if (isLine(a, h1, h2, b)) {
-            if (closed && k + 3 == last && k > 0) break;  // closing the path draws it
+            if (closed && k + 3 == last && (k > 0 || fillable)) break;  // the close draws it
             text.point(b);
             text.word(ops.lineTo);
         } else {
@@ -83,24 +84,9 @@ std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops)
     std::string out;
     OperatorText text(out);
     colour(text, shape.col, ops.setColor);
-    for (const std::vector<Vec2>& path : shape.subpaths) {
-        const size_t n = path.size();
-        text.point(path[0]);
-        text.word(ops.moveTo);
-        for (size_t k = 0; k < n; k += 3) {
-            const Vec2 a = path[k], h1 = path[k + 1], h2 = path[k + 2], b = path[(k + 3) % n];
-            if (isLine(a, h1, h2, b)) {
-                if (k + 3 >= n) break;  // closing the path draws it
-                text.point(b);
-                text.word(ops.lineTo);
-            } else {
-                text.point(h1);
-                text.point(h2);
-                text.point(b);
-                text.word(ops.curveTo);
-            }
-        }
-        text.word(ops.close);
+    for (std::vector<Vec2> path : shape.subpaths) {
+        path.push_back(path.front());  // an outline closes implicitly
+        centreline(text, path, ops, true, true);
     }
     text.word(ops.fill);
     text.endLine();
@@ -114,7 +100,8 @@ std::string shapeStrokeOperators(const FlatShape& shape, const PathOperators& op
     text.word(formatDecimal(std::fmax(shape.strokeWidth, 1e-3), 3));  // 0 would be a hairline
     text.word(ops.setLineWidth);
     text.word(ops.roundCapsJoins);
-    for (const std::vector<Vec2>& path : shape.subpaths) centreline(text, path, ops);
+    for (const std::vector<Vec2>& path : shape.subpaths)
+        centreline(text, path, ops, path.back() == path.front());
     text.word(ops.stroke);
     text.endLine();
     return out;
