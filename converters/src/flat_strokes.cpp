@@ -112,7 +112,6 @@ std::vector<Centreline> traceSkeleton(const cv::Mat& skeleton) {
                 }
                 lines.push_back(walk(p, q));
             }
-            if (graph.links(p).empty()) lines.push_back(Centreline{{centre(p)}, false, 0, true, true});
         }
     // What is left unvisited are loops without a node.
     for (int y = 0; y < skeleton.rows; ++y)
@@ -131,17 +130,6 @@ std::vector<Centreline> traceSkeleton(const cv::Mat& skeleton) {
             lines.push_back(std::move(loop));
         }
     return lines;
-}
-
-// Whether the line is a spur: an end that stops at a junction within `reach` pixels.
-bool isSpur(const Centreline& line, const SkeletonGraph& graph, double reach) {
-    if (line.closed || lengthOf(line.points, false) > reach) return false;
-    auto degree = [&](Vec2 p) {
-        return graph.links({static_cast<int>(p.x), static_cast<int>(p.y)}).size();
-    };
-    const size_t a = degree(line.points.front()), b = degree(line.points.back());
-    return (a == 1 && b >= 3) || (a >= 3 && b == 1) || (a >= 3 && b >= 3 && reach > 0 &&
-                                                      lengthOf(line.points, false) < 1.5);
 }
 
 // The points smoothed along the line (a Gaussian of `sigma` points; an open line's ends stay).
@@ -350,11 +338,10 @@ std::vector<FlatShape> traceStrokes(const RgbaImage& image, const Region& own, c
 
     cv::Mat skeleton;
     cv::ximgproc::thinning(mask, skeleton, cv::ximgproc::THINNING_ZHANGSUEN);
-    const SkeletonGraph graph(skeleton);
     const double reach = options.maxWidth / 2 + 1.5;
     std::vector<Centreline> lines;
     for (Centreline& line : traceSkeleton(skeleton)) {
-        if (line.points.size() < 2 || isSpur(line, graph, 0.5)) continue;
+        if (line.points.size() < 2) continue;
         line.points = smoothAlong(line.points, line.closed, 1.0);
         centreOnCoverage(line, cov, reach);
         line.points = smoothAlong(line.points, line.closed, 1.0);
