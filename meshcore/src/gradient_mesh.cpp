@@ -1,5 +1,6 @@
 #include "meshcore/gradient_mesh.h"
 
+#include <algorithm>
 #include <cassert>
 
 #include "meshcore/bicubic_colors.h"
@@ -31,9 +32,32 @@ bool operator==(const GradientMesh& a, const GradientMesh& b) {
            a.tangents == b.tangents && a.colorModel == b.colorModel;
 }
 
+bool operator==(const GradientStop& a, const GradientStop& b) {
+    return a.offset == b.offset && a.col == b.col;
+}
+
+bool operator==(const LinearGradient& a, const LinearGradient& b) {
+    return a.from == b.from && a.to == b.to && a.stops == b.stops;
+}
+
+Vec3 LinearGradient::colourAt(Vec2 p) const {
+    if (stops.empty()) return {};
+    const Vec2 axis = to - from;
+    const double length2 = dot(axis, axis);
+    const double t = length2 > 0 ? std::clamp(dot(p - from, axis) / length2, 0.0, 1.0) : 0.0;
+    size_t k = 1;
+    while (k + 1 < stops.size() && stops[k].offset < t) ++k;
+    if (k >= stops.size()) return stops.front().col;
+    const GradientStop& a = stops[k - 1];
+    const GradientStop& b = stops[k];
+    const double span = b.offset - a.offset;
+    const double s = span > 0 ? std::clamp((t - a.offset) / span, 0.0, 1.0) : 0.0;
+    return a.col + s * (b.col - a.col);
+}
+
 bool operator==(const FlatShape& a, const FlatShape& b) {
     return a.col == b.col && a.alpha == b.alpha && a.subpaths == b.subpaths && a.layer == b.layer &&
-           a.strokeWidth == b.strokeWidth;
+           a.strokeWidth == b.strokeWidth && a.gradient == b.gradient;
 }
 
 std::vector<Vec2> polygonAsCubics(const std::vector<Vec2>& polygon) {

@@ -233,13 +233,15 @@ PixelBox pixelBox(const std::vector<std::vector<Vec2>>& lines, double margin,
     return {static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(x1), static_cast<int>(y1)};
 }
 
-// Paints the band's alpha (its rows [0, band.y1)) times the shape's opacity in its colour over
-// the image; pixels it covers opaquely lose their mesh sample.
+// Paints the band's alpha (its rows [0, band.y1)) times the shape's opacity in its colour (or
+// its gradient's at the pixel's centre) over the image; pixels it covers opaquely lose their
+// mesh sample.
 void paintRows(const FlatShape& shape, const RenderOptions& options, const LayerRows& band,
                const float* alpha, RgbaImage& image, std::vector<PixelSample>* samples) {
-    const float col[3] = {static_cast<float>(shape.col.r), static_cast<float>(shape.col.g),
-                          static_cast<float>(shape.col.b)};
+    float col[3] = {static_cast<float>(shape.col.r), static_cast<float>(shape.col.g),
+                    static_cast<float>(shape.col.b)};
     const float opacity = static_cast<float>(std::clamp(shape.alpha, 0.0, 1.0));
+    const bool graded = shape.graded();
     for (int r = 0; r < band.y1; ++r) {
         const int y = band.originY + r;
         for (int x = 0; x < band.width; ++x) {
@@ -247,6 +249,12 @@ void paintRows(const FlatShape& shape, const RenderOptions& options, const Layer
             if (!options.antialias) a = a >= 0.5f ? 1.0f : 0.0f;
             a *= opacity;
             if (!(a > 0)) continue;
+            if (graded) {
+                const Vec2 centre{(band.originX + x + 0.5) / options.scale,
+                                  (y + 0.5) / options.scale};
+                const Vec3 c = shape.gradient.colourAt(centre);
+                for (int k = 0; k < 3; ++k) col[k] = static_cast<float>(c[k]);
+            }
             paintOver(image.at(band.originX + x, y), col, a);
             if (samples && a >= 1.0f)
                 (*samples)[static_cast<size_t>(y) * image.width + band.originX + x] = PixelSample{};

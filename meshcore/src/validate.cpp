@@ -130,6 +130,26 @@ std::string coordinateProblem(const Document& doc) {
     return {};
 }
 
+std::string gradientProblem(const LinearGradient& g) {
+    auto unit = [](double x) { return x >= 0 && x <= 1; };
+    const size_t n = g.stops.size();
+    if (n < 2 || n > kMaxGradientStops)
+        return std::to_string(n) + " stops, not 2-" + std::to_string(kMaxGradientStops);
+    for (const Vec2& p : {g.from, g.to})
+        if (!(std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate))
+            return "an end lies beyond the coordinate limit of 1e7 pixels";
+    if (!(norm(g.to - g.from) > kMinGradientLength)) return "its ends are the same point";
+    if (g.stops.front().offset != 0 || g.stops.back().offset != 1)
+        return "offsets do not run from 0 to 1";
+    for (size_t k = 0; k < n; ++k) {
+        const GradientStop& s = g.stops[k];
+        if (!unit(s.col.r) || !unit(s.col.g) || !unit(s.col.b))
+            return "a stop's colour is outside 0-1";
+        if (k > 0 && !(s.offset > g.stops[k - 1].offset)) return "offsets do not increase";
+    }
+    return {};
+}
+
 std::string validateShape(const FlatShape& shape, size_t meshCount) {
     auto unit = [](double x) { return x >= 0 && x <= 1; };
     if (!unit(shape.col.r) || !unit(shape.col.g) || !unit(shape.col.b) || !unit(shape.alpha))
@@ -138,6 +158,10 @@ std::string validateShape(const FlatShape& shape, size_t meshCount) {
     if (shape.subpaths.empty()) return "no outline";
     if (!(shape.strokeWidth >= 0 && shape.strokeWidth <= kMaxStrokeWidth))
         return "stroke width outside 0-10000 pixels";
+    if (shape.graded()) {
+        if (shape.stroked()) return "a stroke painted with a gradient";
+        if (auto e = gradientProblem(shape.gradient); !e.empty()) return "gradient: " + e;
+    }
     for (const std::vector<Vec2>& path : shape.subpaths) {
         if (shape.stroked() && (path.size() < 4 || path.size() % 3 != 1))
             return "a centreline's point count is not 3n + 1 with n >= 1";

@@ -235,3 +235,77 @@ TEST_CASE("a stroke's centreline counts and width are validated", "[validate][fl
     doc.shapes[0].strokeWidth = 0;
     CHECK(validateDocument(doc).find("multiple of 3") != std::string::npos);
 }
+
+namespace {
+
+// A rectangle of 39 × 30 pixels, its left side halfway across pixel column 2, painted with a
+// three-stop gradient along x whose axis ends inside it (both ends pad).
+FlatShape gradedSquare() {
+    FlatShape s;
+    s.subpaths = {polygonAsCubics({{2.5, 2}, {41.5, 2}, {41.5, 32}, {2.5, 32}})};
+    s.gradient.from = {12, 0};
+    s.gradient.to = {32, 0};
+    s.gradient.stops = {{0, {1, 0, 0}}, {0.25, {0, 1, 0}}, {1, {0, 0, 1}}};
+    s.col = {0.3, 0.4, 0.3};
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("a graded shape paints its gradient's colour at each pixel centre",
+          "[render][flat][gradient]") {
+    const FlatShape s = gradedSquare();
+    const LinearGradient& g = s.gradient;
+    CHECK(g.colourAt({0, 0}) == Vec3{1, 0, 0});   // padded before the axis
+    CHECK(g.colourAt({12, 5}) == Vec3{1, 0, 0});
+    CHECK(g.colourAt({17, 9}) == Vec3{0, 1, 0});  // offset 0.25
+    CHECK(g.colourAt({24.5, 0}).g == Approx(0.5));
+    CHECK(g.colourAt({24.5, 0}).b == Approx(0.5));
+    CHECK(g.colourAt({99, 0}) == Vec3{0, 0, 1});  // padded after
+    const RenderResult r = renderDocument(canvasWith(s, 44, 34), RenderOptions{});
+    for (int x = 3; x < 41; ++x)
+        for (int y : {3, 17, 30}) {
+            const Vec3 want = g.colourAt({x + 0.5, y + 0.5});
+            const float* px = r.image.at(x, y);
+            CHECK(px[0] == Approx(want.r).margin(1e-6));
+            CHECK(px[1] == Approx(want.g).margin(1e-6));
+            CHECK(px[2] == Approx(want.b).margin(1e-6));
+            CHECK(px[3] == Approx(1));
+        }
+    // On the outline the gradient's colour at the pixel centre, with the coverage as alpha.
+    const float* edge = r.image.at(2, 10);
+    CHECK(edge[3] == Approx(0.5).margin(1e-3));
+    CHECK(edge[0] == Approx(1).margin(1e-6));
+    // At scale 2 the colour follows the canvas point of each output pixel.
+    RenderOptions o;
+    o.scale = 2;
+    const RenderResult big = renderDocument(canvasWith(s, 44, 34), o);
+    CHECK(big.image.at(49, 20)[1] == Approx(g.colourAt({24.75, 10.25}).g).margin(1e-6));
+}
+
+TEST_CASE("a gradient's stops, offsets and ends are validated", "[validate][flat][gradient]") {
+    Document doc = canvasWith(gradedSquare(), 44, 34);
+    REQUIRE(validateDocument(doc).empty());
+    auto problem = [&](auto change) {
+        Document d = doc;
+        change(d.shapes[0].gradient);
+        return validateDocument(d);
+    };
+    CHECK(problem([](LinearGradient& g) { g.stops.resize(1); }).find("stops") != std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.stops.resize(17, g.stops.back()); })
+              .find("stops") != std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.stops[1].offset = 0; }).find("increase") !=
+          std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.stops.back().offset = 0.9; }).find("0 to 1") !=
+          std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.stops[2].col.b = 1.5; }).find("colour") !=
+          std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.stops[1].offset = NAN; }).find("increase") !=
+          std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.to = g.from; }).find("same point") != std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.to.x = NAN; }).find("limit") != std::string::npos);
+    CHECK(problem([](LinearGradient& g) { g.from.y = 1e8; }).find("limit") != std::string::npos);
+    doc.shapes[0].strokeWidth = 2;
+    doc.shapes[0].subpaths[0].push_back(doc.shapes[0].subpaths[0].front());
+    CHECK(validateDocument(doc).find("stroke painted with a gradient") != std::string::npos);
+}

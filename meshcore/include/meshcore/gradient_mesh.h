@@ -120,6 +120,25 @@ bool operator==(const Slit& a, const Slit& b);
 bool operator==(const CornerTangent& a, const CornerTangent& b);
 bool operator==(const GradientMesh& a, const GradientMesh& b);
 
+// A colour that varies along one direction (SVG's linearGradient with its defaults: pad spread,
+// interpolation in sRGB; PDF's axial shading extended at both ends). A point p lies at
+// t = (p - from)·(to - from) / |to - from|², clamped to [0, 1]; its colour interpolates linearly,
+// per sRGB channel, between the two stops whose offsets enclose t. Offsets run strictly
+// increasing from 0 (the first stop) to 1 (the last); 2 to kMaxGradientStops stops.
+struct GradientStop {
+    double offset = 0;  // 0–1
+    Vec3 col;           // sRGB 0–1
+};
+struct LinearGradient {
+    Vec2 from, to;  // canvas pixels; not the same point
+    std::vector<GradientStop> stops;
+    // The colour at canvas point p.
+    Vec3 colourAt(Vec2 p) const;
+};
+constexpr size_t kMaxGradientStops = 16;
+bool operator==(const GradientStop& a, const GradientStop& b);
+bool operator==(const LinearGradient& a, const LinearGradient& b);
+
 // A region of one colour: closed cubic Bézier subpaths (an outer boundary and its holes), canvas
 // pixels, filled with the nonzero rule; holes wind opposite to the boundary around them, so that
 // the even-odd rule fills the same area. Subpath k's points are 3n, n >= 1: segment m runs from
@@ -130,12 +149,17 @@ bool operator==(const GradientMesh& a, const GradientMesh& b);
 // centreline of 3n + 1 points, n >= 1 (segment m runs from points[3m] via points[3m+1],
 // points[3m+2] to points[3m+3]), open unless its last point equals its first; it is painted
 // `strokeWidth` pixels wide with round caps and round joins, and nothing is filled.
+//
+// A filled shape may be painted with a linear gradient instead of its one colour: see
+// LinearGradient; `col` then holds a mean colour of the gradient, for readers that want one.
 struct FlatShape {
     Vec3 col;          // sRGB 0–1
-    double alpha = 1;  // 0–1, straight
+    double alpha = 1;  // 0–1, straight; multiplies the gradient's colours too
     std::vector<std::vector<Vec2>> subpaths;
     double strokeWidth = 0;  // pixels; 0: a filled shape
     bool stroked() const { return strokeWidth > 0; }
+    LinearGradient gradient;  // no stops: painted in `col`
+    bool graded() const { return !gradient.stops.empty(); }
     // Paint order: the shape is painted after the first `layer` meshes of its document and
     // before the others (0: below every mesh, meshes.size(): above all).
     size_t layer = 0;

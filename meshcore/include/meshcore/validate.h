@@ -13,6 +13,8 @@ namespace gm {
 constexpr double kMaxCoordinate = 1e7;
 // The widest stroke a flat shape may have, pixels.
 constexpr double kMaxStrokeWidth = 1e4;
+// The shortest a linear gradient's axis may be, pixels: writers round its ends to 1/100 px.
+constexpr double kMinGradientLength = 0.1;
 
 // Returns an empty string when the mesh is valid, else a one-line description of the first
 // problem found: knots not strictly increasing, node count mismatch, slit outside the grid or
@@ -21,8 +23,14 @@ constexpr double kMaxStrokeWidth = 1e4;
 std::string validateMesh(const GradientMesh& mesh);
 
 // A flat shape of a document of `meshCount` meshes: colour and opacity within 0-1, a layer that
-// exists, at least one subpath, each of 3n points (n >= 1), every point finite.
+// exists, at least one subpath, each of 3n points (n >= 1), every point finite; a gradient
+// only on a filled shape, and a valid one.
 std::string validateShape(const FlatShape& shape, size_t meshCount);
+
+// Empty when the gradient is valid (2 to kMaxGradientStops stops, offsets strictly increasing
+// from 0 to 1, colours within 0-1, ends within kMaxCoordinate and at least kMinGradientLength
+// apart), else what is wrong.
+std::string gradientProblem(const LinearGradient& gradient);
 
 // As above for every mesh and shape (shapes in non-decreasing layers), plus a positive canvas
 // size; the message names the mesh or shape.
