@@ -27,6 +27,8 @@ void printShape(size_t k, const FlatShape& s) {
     std::printf("shape %zu: ", k);
     if (s.stroked())
         std::printf("stroke %.3g px wide", s.strokeWidth);
+    else if (s.graded())
+        std::printf("linear gradient, %zu stops, mean", s.gradient.stops.size());
     else
         std::printf("flat");
     std::printf(" #%02lx%02lx%02lx, opacity %.3g, %zu %s, %zu segments, above %zu meshes\n",

@@ -5,6 +5,7 @@
 
 #include "formats/gmb.h"
 #include "gmb_corpus.h"
+#include "gmb_shape_support.h"
 #include "meshcore/error.h"
 #include "meshcore/synthetic_meshes.h"
 
@@ -14,34 +15,10 @@ namespace {
 
 const std::string kDir = std::string(GRADMESH_TEST_DATA) + "/gmb/";
 
-std::string decodeError(const std::string& bytes) {
-    try {
-        decodeGmb(bytes, ReadLimits{}, "t.gmb");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
-// The version in a file's header: major * 100 + minor.
-int versionOf(const std::string& bytes) {
-    return static_cast<int>(gmbtest::getLE(bytes, 8, 2) * 100 + gmbtest::getLE(bytes, 10, 2));
-}
-
-// A lossless 1.5 file whose SHAP payload is replaced by `payload` (sizes and CRC fixed).
-std::string withShapePayload(const std::string& payload) {
-    const std::string file = encodeGmb(makeFlatDocument(), false);
-    const size_t at = file.find("SHAP");
-    REQUIRE(at != std::string::npos);
-    const uint64_t stored = gmbtest::getLE(file, at + 8, 8);
-    std::string out = file.substr(0, at + 8);
-    gmbtest::putLE(out, payload.size(), 8);
-    gmbtest::putLE(out, payload.size(), 8);
-    out += payload;
-    gmbtest::putLE(out, gmbtest::crc32(out, at, out.size()), 4);
-    out += file.substr(at + 24 + stored + 4);
-    return out;
-}
+using gmbtest::decodeError;
+using gmbtest::shapeEncodingOf;
+using gmbtest::versionOf;
+using gmbtest::withShapePayload;
 
 // makeFlatDocument with strokes on top: an open curve of two segments, a closed ring and a
 // shape of two straight centrelines, their widths off the 1/256 px grid.
@@ -74,13 +51,6 @@ Document strokedDocument() {
     for (std::vector<Vec2>& path : lines.subpaths) path.resize(4);  // one open segment each
     doc.shapes.push_back(lines);
     return doc;
-}
-
-// The SHAP payload's encoding byte of a lossless file (its payload is stored as it is).
-int shapeEncodingOf(const std::string& file) {
-    const size_t at = file.find("SHAP");
-    REQUIRE(at != std::string::npos);
-    return static_cast<unsigned char>(file[at + 24 + 1]);  // after a one-byte shape count
 }
 
 // A SHAP payload of one shape in encoding 2 (float64 with strokes): `width`, one centreline of
@@ -334,8 +304,8 @@ TEST_CASE("bad stroke widths and centrelines are refused", "[malformed][flat][st
     }
     q += "\x01\x01" + std::string(8, '\x00');  // one subpath of one segment: four points
     CHECK_THAT(decodeError(withShapePayload(q)), Catch::Contains("stroke width"));
-    CHECK_THAT(decodeError(withShapePayload(std::string("\x01\x04") + std::string(60, '\0'))),
-               Catch::Contains("unknown shape encoding 4"));
+    CHECK_THAT(decodeError(withShapePayload(std::string("\x01\x08") + std::string(60, '\0'))),
+               Catch::Contains("unknown shape encoding 8"));
 }
 
 TEST_CASE("write the golden flat-shape files", "[.generate-flat]") {

@@ -1,14 +1,18 @@
 // The SHAP section (gmb_shapes.h).
 #include "gmb_shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "meshcore/validate.h"
 
 namespace gm::gmb {
 
 namespace {
+
+using Charge = std::function<void(ByteReader&, uint64_t)>;
 
 constexpr double kPointScale = double(1 << kShapePointBits);
 // The widest stroke in 1/256 px.
@@ -22,6 +26,11 @@ bool quantizable(const std::vector<FlatShape>& shapes) {
         for (const std::vector<Vec2>& path : s.subpaths)
             for (const Vec2& p : path)
                 if (!(std::fabs(p.x) <= limit && std::fabs(p.y) <= limit)) return false;
+    for (const FlatShape& s : shapes) {
+        if (!s.graded()) continue;
+        for (const Vec2& p : {s.gradient.from, s.gradient.to})
+            if (!(std::fabs(p.x) <= limit && std::fabs(p.y) <= limit)) return false;
+    }
     return true;
 }
 
@@ -31,9 +40,20 @@ bool anyStroked(const std::vector<FlatShape>& shapes) {
     return false;
 }
 
-ShapeEncoding encodingFor(bool quantize, bool strokes) {
-    if (quantize) return strokes ? ShapeEncoding::QuantizedWithStrokes : ShapeEncoding::Quantized;
-    return strokes ? ShapeEncoding::Float64WithStrokes : ShapeEncoding::Float64;
+bool anyGraded(const std::vector<FlatShape>& shapes) {
+    for (const FlatShape& s : shapes)
+        if (s.graded()) return true;
+    return false;
+}
+
+uint8_t encodingFor(bool quantize, bool strokes, bool gradients) {
+    return (quantize ? kShapeQuantizedBit : 0) | (strokes ? kShapeStrokesBit : 0) |
+           (gradients ? kShapeGradientsBit : 0);
+}
+
+// A colour channel, opacity or gradient offset in 1/65535.
+uint16_t unit16(double c) {
+    return static_cast<uint16_t>(std::lround(std::fmin(1.0, std::fmax(0.0, c)) * 65535));
 }
 
 // A stroke's width to 1/256 px; a stroked shape stays stroked, however thin.
@@ -96,10 +116,84 @@ double readWidth(ByteReader& r, bool quantized) {
     return width;
 }
 
+// A gradient's ends on the 1/256 px grid: each rounded to the nearest point or, where that
+// would bring them within kMinGradientLength of each other, each coordinate rounded away from
+// the other end's, which never shortens the axis along either coordinate.
+std::pair<Vec2, Vec2> quantizedEnds(const LinearGradient& g) {
+    auto nearest = [](double x) { return std::round(x * kPointScale) / kPointScale; };
+    const Vec2 from{nearest(g.from.x), nearest(g.from.y)}, to{nearest(g.to.x), nearest(g.to.y)};
+    if (norm(to - from) > kMinGradientLength) return {from, to};
+    auto away = [](double x, double other) {
+        return (x < other ? std::floor(x * kPointScale) : std::ceil(x * kPointScale)) / kPointScale;
+    };
+    return {{away(g.from.x, g.to.x), away(g.from.y, g.to.y)},
+            {away(g.to.x, g.from.x), away(g.to.y, g.from.y)}};
+}
+
+// A gradient's offsets in 1/65535, the first 0 and the last 65535; offsets closer than a step
+// are moved apart (up from the first, then down from the last) so that they stay strictly
+// increasing.
+std::vector<uint16_t> quantizedOffsets(const LinearGradient& g) {
+    const size_t n = g.stops.size();
+    std::vector<int> q(n);
+    for (size_t k = 1; k + 1 < n; ++k)
+        q[k] = std::max<int>(unit16(g.stops[k].offset), q[k - 1] + 1);
+    q.back() = 65535;
+    for (size_t k = n - 1; k-- > 1;) q[k] = std::min(q[k], q[k + 1] - 1);
+    return std::vector<uint16_t>(q.begin(), q.end());
+}
+
+// A shape's gradient field: its stop count (0: painted in its colour), then the two ends as
+// points and each stop's offset and colour.
+void writeGradient(ByteWriter& w, const LinearGradient& g, PointState& points) {
+    w.varint(g.stops.size());
+    if (g.stops.empty()) return;
+    if (!points.quantized) {
+        writePoint(w, g.from, points);
+        writePoint(w, g.to, points);
+        for (const GradientStop& stop : g.stops)
+            for (double v : {stop.offset, stop.col.r, stop.col.g, stop.col.b}) w.f64(v);
+        return;
+    }
+    const auto [from, to] = quantizedEnds(g);
+    writePoint(w, from, points);
+    writePoint(w, to, points);
+    const std::vector<uint16_t> offsets = quantizedOffsets(g);
+    for (size_t k = 0; k < offsets.size(); ++k) {
+        w.u16(offsets[k]);
+        for (int c = 0; c < 3; ++c) w.u16(unit16(g.stops[k].col[c]));
+    }
+}
+
+// Reads shape `index`'s gradient field; the stop count is checked before anything is sized,
+// the gradient by gradientProblem once read.
+void readGradient(ByteReader& r, FlatShape& s, size_t index, PointState& points,
+                  const Charge& charge) {
+    auto fail = [&](const std::string& what) {
+        r.fail("shape " + std::to_string(index) + ": " + what);
+    };
+    const uint64_t count = r.varint();
+    if (count == 0) return;
+    if (count < 2 || count > kMaxGradientStops)
+        fail(std::to_string(count) + " gradient stops: must be 0 or 2 to " +
+             std::to_string(kMaxGradientStops));
+    if (s.stroked()) fail("a stroke painted with a gradient");
+    const uint64_t pointBytes = points.quantized ? 2 : 16, stopBytes = points.quantized ? 8 : 32;
+    r.need(2 * pointBytes + count * stopBytes, std::to_string(count) + " gradient stops");
+    charge(r, 2 * sizeof(Vec2) + count * sizeof(GradientStop));
+    LinearGradient& g = s.gradient;
+    g.from = readPoint(r, points);
+    g.to = readPoint(r, points);
+    g.stops.resize(static_cast<size_t>(count));
+    for (GradientStop& stop : g.stops)
+        for (double* v : {&stop.offset, &stop.col.r, &stop.col.g, &stop.col.b})
+            *v = points.quantized ? r.u16() / 65535.0 : r.f64();
+    if (const std::string e = gradientProblem(g); !e.empty()) fail("gradient: " + e);
+}
+
 // A shape's subpaths: per subpath its segment count n, then 3n points (filled) or 3n + 1
 // (a stroke's centreline).
-void readSubpaths(ByteReader& r, FlatShape& s, PointState& points,
-                  const std::function<void(ByteReader&, uint64_t)>& charge) {
+void readSubpaths(ByteReader& r, FlatShape& s, PointState& points, const Charge& charge) {
     const uint64_t pointBytes = points.quantized ? 2 : 16;  // at least, per point
     const uint64_t extra = s.stroked() ? 1 : 0;
     const uint64_t subpaths = r.varint();
@@ -123,23 +217,23 @@ void readSubpaths(ByteReader& r, FlatShape& s, PointState& points,
 
 std::string encodeShapes(const std::vector<FlatShape>& shapes, bool quantize) {
     quantize = quantize && quantizable(shapes);
-    const bool strokes = anyStroked(shapes);
+    const bool strokes = anyStroked(shapes), gradients = anyGraded(shapes);
     ByteWriter w;
     w.varint(shapes.size());
-    w.u8(static_cast<uint8_t>(encodingFor(quantize, strokes)));
+    w.u8(encodingFor(quantize, strokes, gradients));
     PointState points;
     points.quantized = quantize;
     for (const FlatShape& s : shapes) {
         w.varint(s.layer);
         for (double c : {s.col.r, s.col.g, s.col.b, s.alpha}) {
             if (quantize)
-                w.u16(
-                    static_cast<uint16_t>(std::lround(std::fmin(1.0, std::fmax(0.0, c)) * 65535)));
+                w.u16(unit16(c));
             else
                 w.f64(c);
         }
         if (strokes && quantize) w.varint(quantizedWidth(s));
         if (strokes && !quantize) w.f64(s.stroked() ? s.strokeWidth : 0.0);
+        if (gradients) writeGradient(w, s.gradient, points);
         w.varint(s.subpaths.size());
         for (const std::vector<Vec2>& path : s.subpaths) {
             w.varint(path.size() / 3);  // segments: 3n points filled, 3n + 1 stroked
@@ -149,30 +243,32 @@ std::string encodeShapes(const std::vector<FlatShape>& shapes, bool quantize) {
     return std::move(w.str());
 }
 
-std::vector<FlatShape> decodeShapes(ByteReader& r, uint64_t maxShapes,
-                                    const std::function<void(ByteReader&, uint64_t)>& charge) {
+std::vector<FlatShape> decodeShapes(ByteReader& r, uint64_t maxShapes, const Charge& charge) {
     const uint64_t count = r.varint();
     if (count == 0 || count > maxShapes)
         r.fail(std::to_string(count) + " shapes: must be 1 to " + std::to_string(maxShapes));
     const uint8_t encoding = r.u8();
-    if (encoding > static_cast<uint8_t>(ShapeEncoding::QuantizedWithStrokes))
+    if (encoding > static_cast<uint8_t>(ShapeEncoding::QuantizedWithStrokesAndGradients))
         r.fail("unknown shape encoding " + std::to_string(encoding));
     PointState points;
-    points.quantized = encoding == static_cast<uint8_t>(ShapeEncoding::Quantized) ||
-                       encoding == static_cast<uint8_t>(ShapeEncoding::QuantizedWithStrokes);
+    points.quantized = (encoding & kShapeQuantizedBit) != 0;
     const bool quantized = points.quantized;
-    const bool widths = encoding >= static_cast<uint8_t>(ShapeEncoding::Float64WithStrokes);
-    // The least bytes a shape takes: layer, colour, width, a subpath count and one segment's
-    // count and points.
+    const bool widths = (encoding & kShapeStrokesBit) != 0;
+    const bool gradients = (encoding & kShapeGradientsBit) != 0;
+    // The least bytes a shape takes: layer, colour, width, stop count, a subpath count and one
+    // segment's count and points.
     const uint64_t widthBytes = widths ? (quantized ? 1 : 8) : 0;
-    const uint64_t leastShape = (quantized ? 1 + 8 + 1 + 1 + 6 : 1 + 32 + 1 + 1 + 48) + widthBytes;
+    const uint64_t leastShape =
+        (quantized ? 1 + 8 + 1 + 1 + 6 : 1 + 32 + 1 + 1 + 48) + widthBytes + (gradients ? 1 : 0);
     r.need(satMul(count, leastShape), std::to_string(count) + " shapes");
     std::vector<FlatShape> shapes(static_cast<size_t>(count));
-    for (FlatShape& s : shapes) {
+    for (size_t k = 0; k < shapes.size(); ++k) {
+        FlatShape& s = shapes[k];
         s.layer = static_cast<size_t>(r.varint());
         for (double* c : {&s.col.r, &s.col.g, &s.col.b, &s.alpha})
             *c = quantized ? r.u16() / 65535.0 : r.f64();
         if (widths) s.strokeWidth = readWidth(r, quantized);
+        if (gradients) readGradient(r, s, k, points, charge);
         readSubpaths(r, s, points, charge);
     }
     return shapes;
