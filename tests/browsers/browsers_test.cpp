@@ -2,7 +2,8 @@
 // open our files in: headless Chromium and Firefox ESR draw the default
 // SVG of an object (the apple), of an object with holes (pic1) and of a whole image (HappyFish,
 // --segment), opened directly and inline in an HTML page, as `gradmesh render` draws it, with
-// no pixel of a mesh left uncovered and no paint in its holes or around it.
+// no pixel of a mesh left uncovered and no paint in its holes or around it. Flat shapes painted
+// with linear gradients beside a mesh: the browser draws them itself, the script leaves them.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -15,9 +16,13 @@
 #include <vector>
 
 #include "formats/raster.h"
+#include "formats/svg.h"
+#include "meshcore/synthetic_meshes.h"
 #include "support/browser.h"
 #include "support/cli_run.h"
 #include "support/compare.h"
+#include "support/gradient_shapes.h"
+#include "svg/svg_test_support.h"
 
 using namespace gmtest;
 namespace fs = std::filesystem;
@@ -398,4 +403,75 @@ TEST_CASE("the SVG ends with one well-formed script, and --svg-script none leave
     const Run bad = runGradmesh("convert " + q(gmb) + " -o " + q(d / "x.svg") + " --svg-script inline", d);
     CHECK(bad.code == 2);
     CHECK(bad.err.find("--svg-script expects embed or none") != std::string::npos);
+}
+
+namespace {
+
+// The graded test document with a mesh the script draws, the shapes after the backdrop above
+// it; `reversed`: every gradient's ends swapped (other gradients on the same outlines).
+gm::Document gradedDocument(bool reversed) {
+    gm::Document doc = gradientTestDocument();
+    doc.meshes.push_back(gm::makeCurvedMesh(2, 2, 130, 92, 62, 44, 0.5, 3));
+    for (size_t k = 1; k < doc.shapes.size(); ++k) {
+        gm::FlatShape& s = doc.shapes[k];
+        s.layer = 1;
+        if (reversed) std::swap(s.gradient.from, s.gradient.to);
+    }
+    return doc;
+}
+
+// E of the rows [y0, y0 + doc's height) of a screenshot against our render of the SVG read
+// back (as `gradmesh render` draws it: the mesh in the colours the file gives it): over every
+// pixel but the canvas's border, and 2 px or more from every outline. Screenshot and render
+// are written beside the page as NAME_shot.png and NAME_ours.png.
+void checkGraded(Browser b, const std::string& svg, const gm::RgbaImage& shot, int y0,
+                 const fs::path& work, const std::string& name) {
+    const gm::Document doc = gm::decodeSvg(svg, gm::ReadLimits{});
+    const gm::RgbaImage ours = gm::renderDocument(doc).image;
+    const gm::RgbaImage theirs = rows(shot, y0, doc.width, doc.height);
+    gm::writeImage(ours, (work / (name + "_ours.png")).string());
+    gm::writeImage(theirs, (work / (name + "_shot.png")).string());
+    const DiffStats all = compareInterior(ours, theirs, 1);
+    const double away = svgtest::meanAbs(ours, theirs, svgtest::awayFromOutlines(doc));
+    WARN(browserName(b) << ", " << name << ": E " << all.mean << " (max " << all.max << ") over "
+                        << all.count << " px, " << away << " away from outlines");
+    CHECK(all.count > 20000);
+    CHECK(all.mean <= 1.0);
+    CHECK(away <= 1.0);
+}
+
+void checkGradedInBrowser(Browser b) {
+    if (!browserAvailable(b)) {
+        WARN(browserName(b) << " is not installed: skipped");
+        return;
+    }
+    const fs::path work = scratchDir("browsers_gradients_", browserName(b));
+    // A window larger than the canvases: headless Chromium's screenshot of a window 140 px
+    // high shows only the page's top 52 rows.
+    constexpr int kWindow = 320;
+    const gm::Document doc = gradedDocument(false);
+    const std::string svg = gm::encodeSvg(doc, gm::WriteOptions{});
+    const std::string otherSvg = gm::encodeSvg(gradedDocument(true), gm::WriteOptions{});
+    REQUIRE(svg.find("<linearGradient") != std::string::npos);
+    REQUIRE(svg.find("<script") != std::string::npos);
+    writeFile(work / "gradients.svg", directPage(svg));
+    checkGraded(b, svg, screenshot(b, work / "gradients.svg", kWindow, kWindow, work), 0, work,
+                "direct");
+    // Inline, one after the other: both use the ids of their meshes (m0), but each its own
+    // gradients, whose ids differ with them.
+    writeFile(work / "gradients_inline.html", inlinePage({svg, otherSvg}));
+    const gm::RgbaImage page =
+        screenshot(b, work / "gradients_inline.html", kWindow, kWindow, work);
+    checkGraded(b, svg, page, 0, work, "inline_first");
+    checkGraded(b, otherSvg, page, doc.height, work, "inline_second");
+}
+
+}  // namespace
+
+TEST_CASE("Chromium draws graded shapes beside the script's meshes", "[browsers][external]") {
+    checkGradedInBrowser(Browser::Chromium);
+}
+
+TEST_CASE("Firefox ESR draws graded shapes beside the script's meshes", "[browsers][external]") {
+    checkGradedInBrowser(Browser::Firefox);
 }

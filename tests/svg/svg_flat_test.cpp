@@ -25,14 +25,6 @@ double meanAbsAll(const RgbaImage& a, const RgbaImage& b) {
     return 255 * sum / (3.0 * double(a.pixels.size() / 4));
 }
 
-double largestPointDistance(const FlatShape& a, const FlatShape& b) {
-    double worst = 0;
-    for (size_t s = 0; s < a.subpaths.size(); ++s)
-        for (size_t k = 0; k < a.subpaths[s].size(); ++k)
-            worst = std::max(worst, norm(a.subpaths[s][k] - b.subpaths[s][k]));
-    return worst;
-}
-
 // The flat shapes' <path> elements of an SVG text (the meshes' outlines left out).
 std::string shapePaths(const std::string& text) {
     std::string paths;
@@ -98,7 +90,7 @@ TEST_CASE("flat shapes are compact paths between the meshes and read back", "[sv
         REQUIRE(back.shapes[k].subpaths.size() == doc.shapes[k].subpaths.size());
         for (size_t s = 0; s < doc.shapes[k].subpaths.size(); ++s)
             REQUIRE(back.shapes[k].subpaths[s].size() == doc.shapes[k].subpaths[s].size());
-        CHECK(largestPointDistance(doc.shapes[k], back.shapes[k]) <= 0.0051);
+        CHECK(svgtest::largestPointDistance(doc.shapes[k], back.shapes[k]) <= 0.0051);
         for (int c = 0; c < 3; ++c)
             CHECK(std::fabs(back.shapes[k].col[c] - doc.shapes[k].col[c]) <= 0.5 / 255);
     }
@@ -231,7 +223,7 @@ TEST_CASE("stroked shapes are round-capped paths between the meshes and read bac
                 CHECK((b.subpaths[s].back() == b.subpaths[s].front()) ==
                       (a.subpaths[s].back() == a.subpaths[s].front()));
         }
-        CHECK(largestPointDistance(a, b) <= 0.0051);
+        CHECK(svgtest::largestPointDistance(a, b) <= 0.0051);
     }
     // Written again, the same shape paths.
     CHECK(shapePaths(encodeSvg(back, options)) == shapePaths(svg));

@@ -1,9 +1,13 @@
-// Shared by the SVG tests: the three test meshes, temporary paths, rendering over white.
+// Shared by the SVG tests (and the browsers'): the three test meshes, temporary paths, rendering
+// over white, comparing renders away from flat shapes' outlines.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <sys/stat.h>
+#include <vector>
 
 #include "formats/raster.h"
 #include "meshcore/gradient_mesh.h"
@@ -68,6 +72,66 @@ inline gm::RgbaImage renderOverWhite(const gm::Document& doc, bool fine = false)
     gm::RgbaImage img = gm::renderDocument(doc, o).image;
     gm::compositeOver(img, {1, 1, 1, 1});
     return img;
+}
+
+// Clears in `away` the pixels within `reach` (Chebyshev distance) of a pixel that `part` (a
+// document of one shape or one mesh) covers differently, or covers partly.
+inline void clearNearOutline(const gm::Document& part, int reach, std::vector<char>& away) {
+    const gm::RgbaImage cover = gm::renderDocument(part).image;
+    const int W = part.width, H = part.height;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const float a = cover.at(x, y)[3];
+            bool uniform = a == 0.0f || a == 1.0f;
+            for (int dy = -reach; dy <= reach && uniform; ++dy)
+                for (int dx = -reach; dx <= reach && uniform; ++dx)
+                    uniform = cover.at(std::clamp(x + dx, 0, W - 1),
+                                       std::clamp(y + dy, 0, H - 1))[3] == a;
+            if (!uniform) away[static_cast<size_t>(y) * W + x] = 0;
+        }
+}
+
+// Pixels at least `reach` px from the outline of every shape and mesh of `doc`.
+inline std::vector<char> awayFromOutlines(const gm::Document& doc, int reach = 2) {
+    std::vector<char> away(static_cast<size_t>(doc.width) * doc.height, 1);
+    gm::Document part;
+    part.width = doc.width;
+    part.height = doc.height;
+    for (const gm::FlatShape& shape : doc.shapes) {
+        part.shapes = {shape};
+        part.shapes[0].alpha = 1;
+        part.shapes[0].layer = 0;
+        clearNearOutline(part, reach, away);
+    }
+    part.shapes.clear();
+    for (const gm::GradientMesh& mesh : doc.meshes) {
+        part.meshes = {mesh};
+        clearNearOutline(part, reach, away);
+    }
+    return away;
+}
+
+// E: the mean absolute difference over the pixels `mask` holds (all when empty) and every
+// channel, 0–255 units (both images opaque).
+inline double meanAbs(const gm::RgbaImage& a, const gm::RgbaImage& b,
+                      const std::vector<char>& mask = {}) {
+    double sum = 0;
+    size_t n = 0;
+    for (size_t k = 0; k < a.pixels.size() / 4; ++k) {
+        if (!mask.empty() && !mask[k]) continue;
+        for (int c = 0; c < 3; ++c) sum += std::fabs(a.pixels[4 * k + c] - b.pixels[4 * k + c]);
+        ++n;
+    }
+    return 255 * sum / (3.0 * double(n));
+}
+
+// The largest distance between corresponding points of two shapes of the same layout.
+inline double largestPointDistance(const gm::FlatShape& a, const gm::FlatShape& b) {
+    double worst = 0;
+    for (size_t s = 0; s < a.subpaths.size(); ++s)
+        for (size_t k = 0; k < a.subpaths[s].size(); ++k)
+            worst = std::max(worst, gm::norm(a.subpaths[s][k] - b.subpaths[s][k]));
+    return worst;
 }
 
 }  // namespace svgtest

@@ -14,7 +14,9 @@
 #include "formats/svg.h"
 #include "meshcore/error.h"
 #include "meshcore/validate.h"
+#include "svg_affine.h"
 #include "svg_grid_outset.h"
+#include "svg_linear_gradient.h"
 #include "svg_patch_grid.h"
 #include "svg_shapes.h"
 
@@ -24,21 +26,7 @@ namespace {
 
 using tinyxml2::XMLElement;
 
-struct Affine {
-    double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;  // x' = a x + c y + e, y' = b x + d y + f
-    Vec2 apply(Vec2 p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
-};
-// this ∘ m: first m, then this.
-Affine compose(const Affine& t, const Affine& m) {
-    Affine r;
-    r.a = t.a * m.a + t.c * m.b;
-    r.b = t.b * m.a + t.d * m.b;
-    r.c = t.a * m.c + t.c * m.d;
-    r.d = t.b * m.c + t.d * m.d;
-    r.e = t.a * m.e + t.c * m.f + t.e;
-    r.f = t.b * m.e + t.d * m.f + t.f;
-    return r;
-}
+using Affine = SvgAffine;
 
 const char* localName(const XMLElement* el) {
     const char* name = el->Name();
@@ -503,16 +491,42 @@ void parseXml(tinyxml2::XMLDocument& xml, const std::string& bytes, const std::s
 struct ElementIndex {
     std::unordered_map<std::string, const XMLElement*> byId;
     std::vector<const XMLElement*> painted, meshes;
-    // <path>s filled or stroked with a plain colour (flat shapes), each with the number of
-    // `painted` elements before it in document order.
+    // <path>s that may be flat shapes: filled or stroked with a plain colour or a url(), each
+    // with the number of `painted` elements before it in document order.
     std::vector<std::pair<const XMLElement*, size_t>> flat;
 };
 
-// The flat shapes a path paints with plain colours: 0, 1 (its fill or its stroke) or 2.
-int flatShapesOf(const XMLElement* el) {
+// The element a paint's url(#id) names; null when it names none.
+const XMLElement* paintServer(const std::string& paint, const ElementIndex& index) {
+    const std::string id = Reader::urlTarget(paint);
+    if (id.empty()) return nullptr;
+    const auto it = index.byId.find(id);
+    return it == index.byId.end() ? nullptr : it->second;
+}
+
+bool isGradient(const XMLElement* el) {
+    return el && (isNamed(el, "linearGradient") || isNamed(el, "radialGradient"));
+}
+
+bool isMeshGradient(const XMLElement* el) { return isNamed(el, "meshgradient"); }
+
+// The flat shapes a path paints: 0, 1 (its fill or its stroke) or 2. A fill is one when it is
+// a plain colour or a gradient (a radialGradient, refused later, counts too).
+int flatShapesOf(const XMLElement* el, const ElementIndex& index) {
     Vec3 colour;
-    return parseHexColour(Reader::property(el, "fill"), colour) +
+    const std::string fill = Reader::property(el, "fill");
+    const XMLElement* server = paintServer(fill, index);
+    if (server && isMeshGradient(server)) return 0;  // a mesh's outline
+    return (parseHexColour(fill, colour) || isGradient(server)) +
            parseHexColour(Reader::property(el, "stroke"), colour);
+}
+
+// Whether a path paints with a plain colour or a url() (known once every id is indexed).
+bool mayBeFlat(const XMLElement* el) {
+    Vec3 colour;
+    const std::string fill = Reader::property(el, "fill"), stroke = Reader::property(el, "stroke");
+    return parseHexColour(fill, colour) || parseHexColour(stroke, colour) ||
+           !Reader::urlTarget(fill).empty() || !Reader::urlTarget(stroke).empty();
 }
 
 ElementIndex indexElements(const XMLElement* root) {
@@ -526,11 +540,8 @@ ElementIndex indexElements(const XMLElement* root) {
             index.meshes.push_back(el);
             continue;
         }
-        const std::string fill = Reader::property(el, "fill");
-        if (!Reader::urlTarget(fill).empty())
-            index.painted.push_back(el);
-        else if (isNamed(el, "path") && flatShapesOf(el) > 0)
-            index.flat.emplace_back(el, index.painted.size());
+        if (isNamed(el, "path") && mayBeFlat(el)) index.flat.emplace_back(el, index.painted.size());
+        if (!Reader::urlTarget(Reader::property(el, "fill")).empty()) index.painted.push_back(el);
         std::vector<const XMLElement*> children;
         for (const XMLElement* c = el->FirstChildElement(); c; c = c->NextSiblingElement())
             children.push_back(c);
@@ -588,9 +599,12 @@ std::vector<MeshUse> meshUses(const ElementIndex& index, const ReadLimits& limit
     return uses;
 }
 
-// The gradient and those it links to by href, in order (checked: no cycle, bounded length).
+// The gradient and those it links to by href, in order (checked: each `accepts`, described as
+// `kinds`; no cycle; bounded length).
 std::vector<const XMLElement*> hrefChain(const XMLElement* paint, const ElementIndex& index,
-                                         Reader& rd) {
+                                         Reader& rd,
+                                         bool (*accepts)(const XMLElement*) = isMeshGradient,
+                                         const char* kinds = "a meshgradient") {
     std::vector<const XMLElement*> chain{paint};
     std::unordered_set<const XMLElement*> seen{paint};
     while (true) {
@@ -598,8 +612,8 @@ std::vector<const XMLElement*> hrefChain(const XMLElement* paint, const ElementI
         if (target.empty()) break;
         auto it = index.byId.find(target);
         if (it == index.byId.end()) rd.fail("href to a missing element '#" + target + "'", chain.back());
-        if (!isNamed(it->second, "meshgradient"))
-            rd.fail("href to <" + std::string(it->second->Name()) + ">, not a meshgradient",
+        if (!accepts(it->second))
+            rd.fail("href to <" + std::string(it->second->Name()) + ">, not " + kinds,
                     chain.back());
         if (!seen.insert(it->second).second) rd.fail("href chain has a cycle", chain.back());
         if (static_cast<int>(chain.size()) >= SvgReadLimits::maxHrefChain)
@@ -691,10 +705,10 @@ double strokeScale(const Affine& t, const XMLElement* el, Reader& rd) {
 // The most points all flat paths of a file may have together (each is 16 bytes in memory).
 constexpr size_t kMaxFlatPoints = size_t(1) << 24;
 
-// Parses a path's data in either layout (filled: closed cycles; stroked: centrelines) and
-// carries its points to the canvas by t.
-std::vector<std::vector<Vec2>> readPathData(const XMLElement* el, bool centrelines, const Affine& t,
-                                            size_t& points, Reader& rd) {
+// Parses a path's data in either layout (filled: closed cycles; stroked: centrelines), in the
+// path's own user space.
+std::vector<std::vector<Vec2>> userPathData(const XMLElement* el, bool centrelines, size_t& points,
+                                            Reader& rd) {
     const char* d = el->Attribute("d");
     const size_t room = kMaxFlatPoints - std::min(points, kMaxFlatPoints);
     std::vector<std::vector<Vec2>> subpaths;
@@ -705,40 +719,305 @@ std::vector<std::vector<Vec2>> readPathData(const XMLElement* el, bool centrelin
                                       problem)
             : parseShapePathData(d ? d : "", SvgReadLimits::maxCoordinate, room, subpaths, problem);
     if (!parsed) rd.fail(problem, el);
-    for (std::vector<Vec2>& path : subpaths) {
-        points += path.size();
+    for (const std::vector<Vec2>& path : subpaths) points += path.size();
+    return subpaths;
+}
+
+// Carries a path's subpaths to the canvas by t.
+void toCanvas(std::vector<std::vector<Vec2>>& subpaths, const Affine& t, const XMLElement* el,
+              Reader& rd) {
+    for (std::vector<Vec2>& path : subpaths)
         for (Vec2& p : path) {
             p = t.apply(p);
             if (!(std::fabs(p.x) <= SvgReadLimits::maxCoordinate &&
                   std::fabs(p.y) <= SvgReadLimits::maxCoordinate))
                 rd.fail("path coordinates reach beyond the limit of 1e7 after its transforms", el);
         }
-    }
+}
+
+// Parses a path's data in either layout and carries its points to the canvas by t.
+std::vector<std::vector<Vec2>> readPathData(const XMLElement* el, bool centrelines, const Affine& t,
+                                            size_t& points, Reader& rd) {
+    std::vector<std::vector<Vec2>> subpaths = userPathData(el, centrelines, points, rd);
+    toCanvas(subpaths, t, el, rd);
     return subpaths;
 }
 
-// A <path> filled with a plain colour as a flat shape (nonzero rule; fill-opacity as its
-// alpha), and one stroked with a plain colour as a stroked shape (stroke-width, carried by the
-// transforms, as its width; stroke-opacity as its alpha), in that order, which is SVG's paint
-// order; points carried to the canvas; `layer` as FlatShape::layer.
-void readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root, const Canvas& canvas,
-                  size_t& points, Reader& rd, std::vector<FlatShape>& shapes) {
+// Fails at the gradient element `g`, naming the path `el` it fills.
+[[noreturn]] void failGradient(const std::string& what, const XMLElement* g, const XMLElement* el,
+                               const Reader& rd) {
+    rd.fail(what + " (in the fill of " + rd.describe(el) + ")", g);
+}
+
+// The chain's first gradient that has attribute `name`, or null; x1, y1, x2 and y2 only from a
+// linearGradient (a radialGradient's mean other things).
+const XMLElement* chainAttribute(const std::vector<const XMLElement*>& chain, const char* name) {
+    const bool axis = name[0] == 'x' || name[0] == 'y';
+    for (const XMLElement* g : chain)
+        if (g->Attribute(name) && (!axis || isNamed(g, "linearGradient"))) return g;
+    return nullptr;
+}
+
+// The <stop>s of the chain's first gradient that has any (SVG's inheritance through href),
+// counted before they are gathered: at most kMaxGradientStops.
+std::vector<const XMLElement*> stopElements(const std::vector<const XMLElement*>& chain,
+                                            const XMLElement* el, Reader& rd) {
+    for (const XMLElement* g : chain) {
+        size_t n = 0;
+        for (const XMLElement* c = g->FirstChildElement(); c; c = c->NextSiblingElement())
+            n += isNamed(c, "stop");
+        if (n == 0) continue;
+        if (n > kMaxGradientStops)
+            failGradient("a gradient of " + std::to_string(n) + " stops is over the limit of " +
+                             std::to_string(kMaxGradientStops),
+                         g, el, rd);
+        std::vector<const XMLElement*> stops;
+        for (const XMLElement* c = g->FirstChildElement(); c; c = c->NextSiblingElement())
+            if (isNamed(c, "stop")) stops.push_back(c);
+        return stops;
+    }
+    return {};
+}
+
+// A stop's offset as SVG reads it: a number or a percentage, clamped to 0–1; 0 when absent.
+double stopOffset(const XMLElement* stop, Reader& rd) {
+    const char* text = stop->Attribute("offset");
+    if (!text) return 0;
+    const char* p = text;
+    double v = 0;
+    const bool read = rd.number(p, v, stop, "offset");
+    Reader::skipSpace(p);
+    if (read && *p == '%') {
+        v /= 100;
+        Reader::skipSpace(++p);
+    }
+    if (!read || *p)
+        rd.fail("offset '" + std::string(text).substr(0, 40) + "' is not a number or a percentage",
+                stop);
+    return std::clamp(v, 0.0, 1.0);
+}
+
+// The stops as SVG reads them: each offset at least the one before it.
+std::vector<SvgStop> readStops(const std::vector<const XMLElement*>& elements, Reader& rd) {
+    std::vector<SvgStop> stops;
+    for (const XMLElement* e : elements) {
+        SvgStop s{stopOffset(e, rd), rd.color(e), readOpacity(e, "stop-opacity", rd)};
+        if (!stops.empty()) s.offset = std::max(s.offset, stops.back().offset);
+        stops.push_back(s);
+    }
+    return stops;
+}
+
+// The stops' one stop-opacity, which multiplies the shape's; refused when they differ (the
+// model's gradients vary in colour only).
+double commonStopOpacity(const std::vector<SvgStop>& stops, const XMLElement* g,
+                         const XMLElement* el, Reader& rd) {
+    for (const SvgStop& s : stops)
+        if (std::fabs(s.opacity - stops.front().opacity) > 1e-9)
+            failGradient("stops of different stop-opacity are not supported (a gradient varies "
+                         "in colour only)",
+                         g, el, rd);
+    return stops.front().opacity;
+}
+
+// An axis coordinate: a number ("px" too in user space) or a percentage of `percentBase` (user
+// space: the canvas's width or height; bounding-box units: 1). Absent: fallback × percentBase.
+double axisCoordinate(const std::vector<const XMLElement*>& chain, const char* name,
+                      double fallback, bool bbox, double percentBase, Reader& rd) {
+    const XMLElement* g = chainAttribute(chain, name);
+    const bool percent = !g || std::strchr(g->Attribute(name), '%');
+    if (percent && !(percentBase > 0) && (g || fallback != 0))
+        rd.fail(std::string(name) + " is a percentage of a canvas of unknown size", g ? g : chain[0]);
+    if (!g) return fallback * percentBase;
+    const std::string text = g->Attribute(name);
+    const char* p = text.c_str();
+    double v = 0;
+    const bool read = rd.number(p, v, g, name);
+    Reader::skipSpace(p);
+    if (read && *p == '%') {
+        v = v / 100 * percentBase;
+        ++p;
+    } else if (read && !bbox && std::strncmp(p, "px", 2) == 0) {
+        p += 2;
+    }
+    Reader::skipSpace(p);
+    if (!read || *p)
+        rd.fail(std::string(name) + " '" + text.substr(0, 40) +
+                    (bbox ? "' is not a number or a percentage"
+                          : "' is not a number of pixels or a percentage"),
+                g);
+    return v;
+}
+
+// Whether the chain's gradientUnits are objectBoundingBox (SVG's default), not userSpaceOnUse.
+bool boundingBoxUnits(const std::vector<const XMLElement*>& chain, Reader& rd) {
+    const XMLElement* g = chainAttribute(chain, "gradientUnits");
+    if (!g) return true;
+    const std::string units = Reader::trim(g->Attribute("gradientUnits"));
+    if (units != "objectBoundingBox" && units != "userSpaceOnUse")
+        rd.fail("unknown gradientUnits '" + units.substr(0, 40) + "'", g);
+    return units == "objectBoundingBox";
+}
+
+// The transform from the gradient's space to the path's user space: its gradientTransform,
+// then, for bounding-box units, the box of the path's own geometry (`user`).
+Affine gradientToUser(const std::vector<const XMLElement*>& chain, bool bbox,
+                      const std::vector<std::vector<Vec2>>& user, const XMLElement* el,
+                      Reader& rd) {
+    Affine g;
+    if (const XMLElement* e = chainAttribute(chain, "gradientTransform"))
+        g = rd.transformAttribute(e, "gradientTransform");
+    if (!bbox) return g;
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    extentAlong(user, {1, 0}, x0, x1);
+    extentAlong(user, {0, 1}, y0, y1);
+    if (!(x1 > x0 && y1 > y0))
+        failGradient("a gradient in objectBoundingBox units on a path of no width or no height",
+                     chain[0], el, rd);
+    return compose(Affine{x1 - x0, 0, 0, y1 - y0, x0, y0}, g);
+}
+
+// The chain's axis carried to the canvas by t (the path's user space to the canvas), as
+// g.from, g.to; false when it has no length (SVG then paints the last stop's colour).
+bool gradientAxis(const std::vector<const XMLElement*>& chain,
+                  const std::vector<std::vector<Vec2>>& user, const Affine& t,
+                  const Canvas& canvas, const XMLElement* el, LinearGradient& g, Reader& rd) {
+    const bool bbox = boundingBoxUnits(chain, rd);
+    const double w = bbox ? 1 : canvas.width, h = bbox ? 1 : canvas.height;
+    const Vec2 a{axisCoordinate(chain, "x1", 0, bbox, w, rd),
+                 axisCoordinate(chain, "y1", 0, bbox, h, rd)};
+    const Vec2 b{axisCoordinate(chain, "x2", 1, bbox, w, rd),
+                 axisCoordinate(chain, "y2", 0, bbox, h, rd)};
+    if (a == b) return false;
+    if (!canvasGradientAxis(a, b, compose(t, gradientToUser(chain, bbox, user, el, rd)), g.from,
+                            g.to))
+        failGradient("the gradient's transform to the canvas is not invertible", chain[0], el, rd);
+    for (const Vec2& p : {g.from, g.to})
+        if (!(std::fabs(p.x) <= SvgReadLimits::maxCoordinate &&
+              std::fabs(p.y) <= SvgReadLimits::maxCoordinate))
+            failGradient("the gradient's ends reach beyond the limit of 1e7 after its transforms",
+                         chain[0], el, rd);
+    if (!(norm(g.to - g.from) > kMinGradientLength))
+        failGradient("the gradient's colours change over less than 0.1 px on the canvas, under "
+                     "what a gradient may hold",
+                     chain[0], el, rd);
+    return true;
+}
+
+// spreadMethod pad, or any when the shape (`canvasPaths`) lies within the axis's span, where
+// the colours beyond its ends never show.
+void requirePadSpread(const std::vector<const XMLElement*>& chain, const LinearGradient& g,
+                      const std::vector<std::vector<Vec2>>& canvasPaths, const XMLElement* el,
+                      Reader& rd) {
+    const XMLElement* e = chainAttribute(chain, "spreadMethod");
+    const std::string spread = e ? Reader::trim(e->Attribute("spreadMethod")) : "pad";
+    if (spread == "pad") return;
+    if (spread != "reflect" && spread != "repeat")
+        failGradient("unknown spreadMethod '" + spread.substr(0, 40) + "'", e, el, rd);
+    const double length = norm(g.to - g.from);
+    const Vec2 dir = (1 / length) * (g.to - g.from);
+    double lo = 0, hi = 0;
+    extentAlong(canvasPaths, dir, lo, hi);
+    const double at = dot(g.from, dir), slack = 0.01;  // px
+    if (!(lo - at >= -slack && hi - at <= length + slack))
+        failGradient("spreadMethod '" + spread +
+                         "' is not supported where the shape reaches beyond the gradient's ends "
+                         "(only pad is)",
+                     e, el, rd);
+}
+
+// color-interpolation sRGB (SVG's default), the model's; linearRGB is refused.
+void requireSrgbInterpolation(const std::vector<const XMLElement*>& chain, const XMLElement* el,
+                              Reader& rd) {
+    for (const XMLElement* g : chain)
+        if (Reader::property(g, "color-interpolation") == "linearRGB")
+            failGradient("color-interpolation linearRGB is not supported (gradients interpolate "
+                         "in sRGB)",
+                         g, el, rd);
+}
+
+// The fill of path `el` by the gradient `paint` as `shape`: its subpaths on the canvas, its
+// gradient, mean colour and opacity. false when it paints nothing (a gradient without stops
+// paints as `none`).
+bool readGradientFill(const XMLElement* el, const XMLElement* paint, const ElementIndex& index,
+                      const Affine& t, const Canvas& canvas, size_t& points, FlatShape& shape,
+                      Reader& rd) {
+    if (!isNamed(paint, "linearGradient"))
+        rd.fail("fills by <" + std::string(paint->Name()) + "> are not supported (" +
+                    rd.describe(paint) + "); only linearGradient and meshgradient are",
+                el);
+    const std::vector<const XMLElement*> chain =
+        hrefChain(paint, index, rd, isGradient, "a linearGradient or radialGradient");
+    requireSrgbInterpolation(chain, el, rd);
+    const std::vector<const XMLElement*> stopEls = stopElements(chain, el, rd);
+    if (stopEls.empty()) return false;
+    if ((points += 2 * stopEls.size()) > kMaxFlatPoints)  // a stop takes two points' memory
+        rd.fail("the flat paths and their gradients hold too many points", el);
+    const std::vector<SvgStop> stops = readStops(stopEls, rd);
+    std::vector<std::vector<Vec2>> user = userPathData(el, false, points, rd);
+    shape.alpha = readOpacity(el, "fill-opacity", rd) * commonStopOpacity(stops, paint, el, rd);
+    LinearGradient g;
+    const bool graded = stops.size() > 1 && gradientAxis(chain, user, t, canvas, el, g, rd);
+    shape.subpaths = std::move(user);
+    toCanvas(shape.subpaths, t, el, rd);
+    shape.col = stops.back().col;  // one stop, or an axis of no length
+    if (!graded) return true;
+    g.stops = modelGradientStops(stops);
+    if (g.stops.size() > kMaxGradientStops)
+        failGradient("a gradient of " + std::to_string(g.stops.size()) +
+                         " stops with those added at 0 and 1 is over the limit of " +
+                         std::to_string(kMaxGradientStops),
+                     paint, el, rd);
+    requirePadSpread(chain, g, shape.subpaths, el, rd);
+    if (const std::string problem = gradientProblem(g); !problem.empty())
+        failGradient("gradient: " + problem, paint, el, rd);
+    shape.col = meanGradientColour(g);
+    shape.gradient = std::move(g);
+    return true;
+}
+
+// A stroke painted with a gradient: FlatShape strokes are of one colour.
+void refuseGradientStroke(const XMLElement* el, const ElementIndex& index, Reader& rd) {
+    const XMLElement* server = paintServer(Reader::property(el, "stroke"), index);
+    if (isGradient(server) || (server && isMeshGradient(server)))
+        rd.fail("strokes painted with a gradient (" + rd.describe(server) +
+                    ") are not supported; only strokes of one colour are",
+                el);
+}
+
+// A <path> filled with a plain colour or a linearGradient as a flat shape (nonzero rule;
+// fill-opacity as its alpha), and one stroked with a plain colour as a stroked shape
+// (stroke-width, carried by the transforms, as its width; stroke-opacity as its alpha), in that
+// order, which is SVG's paint order; points carried to the canvas; `layer` as FlatShape::layer.
+// A path filled with a meshgradient is that mesh's outline, read as the mesh.
+void readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root,
+                  const ElementIndex& index, const Canvas& canvas, size_t& points, Reader& rd,
+                  std::vector<FlatShape>& shapes) {
+    const std::string fill = Reader::property(el, "fill");
+    const XMLElement* server = paintServer(fill, index);
+    if (server && isMeshGradient(server)) return;
+    refuseGradientStroke(el, index, rd);
     const Affine t = compose(canvas.viewBoxShift, shapeTransform(el, root, rd));
     FlatShape shape;
     shape.layer = layer;
-    if (parseHexColour(Reader::property(el, "fill"), shape.col)) {
+    if (isGradient(server)) {
+        if (readGradientFill(el, server, index, t, canvas, points, shape, rd))
+            shapes.push_back(std::move(shape));
+    } else if (parseHexColour(fill, shape.col)) {
         shape.alpha = readOpacity(el, "fill-opacity", rd);
         shape.subpaths = readPathData(el, false, t, points, rd);
-        shapes.push_back(shape);
+        shapes.push_back(std::move(shape));
     }
-    if (parseHexColour(Reader::property(el, "stroke"), shape.col)) {
+    FlatShape line;
+    line.layer = layer;
+    if (parseHexColour(Reader::property(el, "stroke"), line.col)) {
         requireRoundSolidStroke(el, rd);
-        shape.alpha = readOpacity(el, "stroke-opacity", rd);
-        shape.strokeWidth = readStrokeWidth(el, rd) * strokeScale(t, el, rd);
-        if (!(shape.strokeWidth > 0 && shape.strokeWidth <= kMaxStrokeWidth))
+        line.alpha = readOpacity(el, "stroke-opacity", rd);
+        line.strokeWidth = readStrokeWidth(el, rd) * strokeScale(t, el, rd);
+        if (!(line.strokeWidth > 0 && line.strokeWidth <= kMaxStrokeWidth))
             rd.fail("stroke-width out of range after its transforms", el);
-        shape.subpaths = readPathData(el, true, t, points, rd);
-        shapes.push_back(shape);
+        line.subpaths = readPathData(el, true, t, points, rd);
+        shapes.push_back(std::move(line));
     }
 }
 
@@ -861,7 +1140,7 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     for (size_t k = 0; k < index.painted.size(); ++k) usesBefore[k + 1] += usesBefore[k];
     uint64_t outlined = 0;
     for (const auto& f : index.flat)
-        if (f.first->Attribute("d")) outlined += static_cast<uint64_t>(flatShapesOf(f.first));
+        if (f.first->Attribute("d")) outlined += static_cast<uint64_t>(flatShapesOf(f.first, index));
     if (outlined > limits.maxShapes)
         throw Error("SVG has " + std::to_string(outlined) + " flat shapes, over the limit of " +
                         std::to_string(limits.maxShapes),
@@ -869,7 +1148,7 @@ Document decodeSvg(const std::string& bytes, const ReadLimits& limits, const std
     size_t points = 0;
     for (const auto& [el, painted] : index.flat)
         if (el->Attribute("d"))
-            readFlatPath(el, usesBefore[painted], root, canvas, points, rd, doc.shapes);
+            readFlatPath(el, usesBefore[painted], root, index, canvas, points, rd, doc.shapes);
     setDocumentSize(doc, canvas, limits, fileName);
     const std::string problem = validateDocument(doc);
     if (!problem.empty()) throw Error("meshes and shapes read are not valid: " + problem, fileName);

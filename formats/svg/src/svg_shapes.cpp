@@ -179,16 +179,6 @@ void appendCentrelinePathData(std::string& out, const std::vector<std::vector<Ve
     }
 }
 
-void appendHexColour(std::string& out, Vec3 col) {
-    static const char* hex = "0123456789abcdef";
-    out += '#';
-    for (int k = 0; k < 3; ++k) {
-        const long v = std::lround(std::fmin(1.0, std::fmax(0.0, col[k])) * 255.0);
-        out += hex[v >> 4];
-        out += hex[v & 15];
-    }
-}
-
 // ` name="alpha"`, e.g. fill-opacity.
 void appendOpacity(std::string& out, const char* name, double alpha) {
     char text[32];
@@ -345,7 +335,17 @@ private:
 
 }  // namespace
 
-void appendShapePath(std::string& out, const FlatShape& shape) {
+void appendHexColour(std::string& out, Vec3 col) {
+    static const char* hex = "0123456789abcdef";
+    out += '#';
+    for (int k = 0; k < 3; ++k) {
+        const long v = std::lround(std::fmin(1.0, std::fmax(0.0, col[k])) * 255.0);
+        out += hex[v >> 4];
+        out += hex[v & 15];
+    }
+}
+
+void appendShapePath(std::string& out, const FlatShape& shape, SvgGradientWriter& gradients) {
     if (shape.stroked()) {
         out += "<path fill=\"none\" stroke=\"";
         appendHexColour(out, shape.col);
@@ -359,9 +359,14 @@ void appendShapePath(std::string& out, const FlatShape& shape) {
         out += "\"/>\n";
         return;
     }
-    out += "<path fill=\"";
-    appendHexColour(out, shape.col);
-    out += '"';
+    if (shape.graded()) {
+        const std::string id = gradients.append(out, shape.gradient);
+        out += "<path fill=\"url(#" + id + ")\"";
+    } else {
+        out += "<path fill=\"";
+        appendHexColour(out, shape.col);
+        out += '"';
+    }
     if (shape.alpha < 1) appendOpacity(out, "fill-opacity", shape.alpha);
     out += " d=\"";
     appendClosedPathData(out, shape.subpaths);

@@ -1,5 +1,6 @@
-// Flat shapes (FlatShape) in SVG: written as <path fill="#rrggbb" d="..."/> (a stroked shape as
-// <path fill="none" stroke="#rrggbb" stroke-width="W" stroke-linecap="round"
+// Flat shapes (FlatShape) in SVG: written as <path fill="#rrggbb" d="..."/> (a graded shape as
+// <path fill="url(#gradient id)" d="..."/> after its <linearGradient>, svg_linear_gradient.h; a
+// stroked shape as <path fill="none" stroke="#rrggbb" stroke-width="W" stroke-linecap="round"
 // stroke-linejoin="round" d="..."/>) with compact relative path data at 1/100 px, read back
 // from such paths.
 #pragma once
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "meshcore/gradient_mesh.h"
+#include "svg_linear_gradient.h"
 
 namespace gm {
 
@@ -15,8 +17,12 @@ namespace gm {
 // written as differences of the rounded values, so rounding never accumulates; cubics whose
 // handles lie at a third and two thirds of their chord are written as lines, and a closing line
 // as "z" alone. A stroked shape's closed centrelines end in "z", its open ones do not; its
-// width is written to 1/100 px, at least 0.01.
-void appendShapePath(std::string& out, const FlatShape& shape);
+// width is written to 1/100 px, at least 0.01. A graded shape's gradient goes through
+// `gradients`, which writes each distinct one once, before the first path it paints.
+void appendShapePath(std::string& out, const FlatShape& shape, SvgGradientWriter& gradients);
+
+// "#rrggbb", each channel clamped to 0–1 and rounded to 8 bits.
+void appendHexColour(std::string& out, Vec3 col);
 
 // Appends path data (the d attribute's text) for closed subpaths in FlatShape's layout (point,
 // handle, handle, point, ..., each subpath a cycle of cubics), written as appendShapePath does.

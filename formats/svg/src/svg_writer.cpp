@@ -745,9 +745,10 @@ std::string encodeSvg(const Document& doc, const WriteOptions& options, SvgEncod
     std::string paths;
     int n = 0;
     size_t nextShape = 0;  // flat shapes go between the meshes in their paint order
+    SvgGradientWriter gradients;
     auto shapesUpTo = [&](size_t layer) {
         for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
-            appendShapePath(paths, doc.shapes[nextShape]);
+            appendShapePath(paths, doc.shapes[nextShape], gradients);
     };
     for (size_t k = 0; k < pieces.size(); ++k) {
         const SvgPiece& p = pieces[k];

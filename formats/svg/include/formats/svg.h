@@ -23,8 +23,16 @@
 // where the browser cannot (docs/browsers.md). Inkscape and our reader ignore it.
 // A path ending in ".svgz" is written gzip-compressed; gzip input is read either way.
 //
+// Flat shapes (Document::shapes) are plain paths between the meshes' paths: filled in one
+// colour, stroked with round caps and joins, or filled with a <linearGradient> written just
+// before the path (userSpaceOnUse, pad, sRGB; its id a hash of its text, so that SVGs inlined
+// in one page never share an id for different gradients). Browsers draw them natively.
+//
 // Reading gives one GradientMesh per painted meshgradient (see decodeSvg for what is read and
-// how the Ferguson data is recovered from Bézier handles).
+// how the Ferguson data is recovered from Bézier handles), and one FlatShape per path filled
+// with a colour or a linearGradient (href chains, bounding-box units and any invertible
+// transform followed; radial gradients, per-stop opacities and gradient strokes refused by
+// name) or stroked in one colour (docs/formats.md).
 //
 // Mesh shapes are painted with style="fill:url(#mN) none": viewers without meshes paint
 // nothing there (the fallback paint), and mesh polyfills (Inkscape's, ours) find the paint in
