@@ -13,6 +13,18 @@ namespace {
 // PostScript implementations may limit arrays to 65535 elements; a text patch has 45 numbers.
 constexpr size_t kTextPatchesPerArray = 1000;
 
+// A flat shape; a stroked one between gsave and grestore, so that its line width, caps and
+// joins end with it; a graded one likewise, clipped to its outline, so that the clip ends with
+// it, its axial shading painted within.
+std::string shapeOperators(const FlatShape& shape) {
+    if (shape.stroked())
+        return "gsave " + shapeStrokeOperators(shape, kPostScriptPathOperators) + "grestore\n";
+    if (shape.graded())
+        return "gsave " + shapeClipOperators(shape, kPostScriptPathOperators) + "<< " +
+               axialShadingEntries(shape.gradient) + " >> shfill grestore\n";
+    return shapeFillOperators(shape, kPostScriptPathOperators);
+}
+
 std::string epsDocument(const Document& doc, const WriteOptions& options) {
     const std::string w = std::to_string(doc.width), h = std::to_string(doc.height);
     std::string ps;
@@ -28,18 +40,11 @@ std::string epsDocument(const Document& doc, const WriteOptions& options) {
     ps += "4 dict begin\n";
     // Canvas y runs down, PostScript y up.
     ps += "0 " + h + " translate 1 -1 scale\n";
-    // Flat shapes go between the shadings in their paint order; a stroked one between gsave
-    // and grestore, so that its line width, caps and joins end with it.
+    // Flat shapes go between the shadings in their paint order.
     size_t nextShape = 0;
     auto shapesUpTo = [&](size_t layer) {
-        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape) {
-            const FlatShape& shape = doc.shapes[nextShape];
-            if (shape.stroked())
-                ps +=
-                    "gsave " + shapeStrokeOperators(shape, kPostScriptPathOperators) + "grestore\n";
-            else
-                ps += shapeFillOperators(shape, kPostScriptPathOperators);
-        }
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
+            ps += shapeOperators(doc.shapes[nextShape]);
     };
     for (const MeshShading& shading : buildMeshShadings(doc, options)) {
         shapesUpTo(shading.source);

@@ -5,12 +5,13 @@
 
 namespace gm {
 
-const PathOperators kPdfPathOperators{"rg", "m", "l", "c", "h", "f", "RG", "w", "1 J 1 j", "S"};
+const PathOperators kPdfPathOperators{"rg", "m", "l",       "c", "h",  "f",
+                                      "RG", "w", "1 J 1 j", "S", "W n"};
 const PathOperators kPostScriptPathOperators{
     "setrgbcolor", "moveto",       "lineto",
     "curveto",     "closepath",    "fill",
     "setrgbcolor", "setlinewidth", "1 setlinecap 1 setlinejoin",
-    "stroke"};
+    "stroke",      "clip newpath"};
 
 namespace {
 
@@ -78,17 +79,31 @@ void centreline(OperatorText& text, const std::vector<Vec2>& path, const PathOpe
     if (closed) text.word(ops.close);
 }
 
+// A filled shape's subpaths, each moved to and closed.
+void outline(OperatorText& text, const FlatShape& shape, const PathOperators& ops) {
+    for (std::vector<Vec2> path : shape.subpaths) {
+        path.push_back(path.front());  // an outline closes implicitly
+        centreline(text, path, ops, true, true);
+    }
+}
+
 }  // namespace
 
 std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops) {
     std::string out;
     OperatorText text(out);
     colour(text, shape.col, ops.setColor);
-    for (std::vector<Vec2> path : shape.subpaths) {
-        path.push_back(path.front());  // an outline closes implicitly
-        centreline(text, path, ops, true, true);
-    }
+    outline(text, shape, ops);
     text.word(ops.fill);
+    text.endLine();
+    return out;
+}
+
+std::string shapeClipOperators(const FlatShape& shape, const PathOperators& ops) {
+    std::string out;
+    OperatorText text(out);
+    outline(text, shape, ops);
+    text.word(ops.clip);
     text.endLine();
     return out;
 }

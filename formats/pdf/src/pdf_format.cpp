@@ -53,57 +53,78 @@ private:
     std::vector<size_t> offsets_;
 };
 
+// The page's content stream and the resources it names.
+struct PageContent {
+    std::string paint, shadings, states;
+    size_t shadingCount = 0;
+    // Names shading object `object` a resource of the page and paints it.
+    void shading(int object) {
+        const std::string name = "/Sh" + std::to_string(shadingCount++);
+        shadings += name + " " + PdfBuilder::ref(object) + " ";
+        paint += name + " sh\n";
+    }
+};
+
+// A flat shape: an opaque fill as it is; anything else between q and Q, so that its graphics
+// state (opacity, line width, caps, joins, clip) ends with it. A translucent shape's state of
+// its own sets /ca, the fill's opacity (which a shading's painting uses too), or /CA, the
+// stroke's. A graded shape clips to its outline and paints its axial shading there.
+void paintShape(const FlatShape& shape, size_t index, PdfBuilder& pdf, PageContent& page) {
+    if (shape.alpha >= 1 && !shape.stroked() && !shape.graded()) {
+        page.paint += shapeFillOperators(shape, kPdfPathOperators);
+        return;
+    }
+    page.paint += "q ";
+    if (shape.alpha < 1) {
+        const std::string name = "/GS" + std::to_string(index);
+        page.states += name + (shape.stroked() ? " << /CA " : " << /ca ") +
+                       formatDecimal(shape.alpha, 4) + " >> ";
+        page.paint += name + " gs ";
+    }
+    if (shape.graded()) {
+        const int object = pdf.reserve();
+        pdf.object(object, "<< " + axialShadingEntries(shape.gradient) + " >>");
+        page.paint += shapeClipOperators(shape, kPdfPathOperators);
+        page.shading(object);
+    } else {
+        page.paint += shape.stroked() ? shapeStrokeOperators(shape, kPdfPathOperators)
+                                      : shapeFillOperators(shape, kPdfPathOperators);
+    }
+    page.paint += "Q\n";
+}
+
 std::string pdfDocument(const Document& doc, const WriteOptions& options) {
     const std::vector<MeshShading> shadings = buildMeshShadings(doc, options);
     const std::string w = std::to_string(doc.width), h = std::to_string(doc.height);
     PdfBuilder pdf;
     const int catalog = pdf.reserve(), pages = pdf.reserve(), page = pdf.reserve(),
               contents = pdf.reserve();
-    std::string shadingResources, stateResources, paint;
+    PageContent content;
     // Canvas y runs down, PDF y up.
-    paint = "q 1 0 0 -1 0 " + h + " cm\n";
-    // Flat shapes between the shadings in their paint order; a translucent one through a
-    // graphics state of its own (/ca the fill's opacity, /CA the stroke's), a stroked one
-    // between q and Q so that its line width, caps and joins end with it.
+    content.paint = "q 1 0 0 -1 0 " + h + " cm\n";
+    // Flat shapes between the shadings in their paint order.
     size_t nextShape = 0;
     auto shapesUpTo = [&](size_t layer) {
-        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape) {
-            const FlatShape& shape = doc.shapes[nextShape];
-            const std::string ops = shape.stroked() ? shapeStrokeOperators(shape, kPdfPathOperators)
-                                                    : shapeFillOperators(shape, kPdfPathOperators);
-            if (shape.alpha >= 1 && !shape.stroked()) {
-                paint += ops;
-                continue;
-            }
-            paint += "q ";
-            if (shape.alpha < 1) {
-                const std::string name = "/GS" + std::to_string(nextShape);
-                stateResources += name + (shape.stroked() ? " << /CA " : " << /ca ") +
-                                  formatDecimal(shape.alpha, 4) + " >> ";
-                paint += name + " gs ";
-            }
-            paint += ops + "Q\n";
-        }
+        for (; nextShape < doc.shapes.size() && doc.shapes[nextShape].layer <= layer; ++nextShape)
+            paintShape(doc.shapes[nextShape], nextShape, pdf, content);
     };
-    for (size_t n = 0; n < shadings.size(); ++n) {
-        shapesUpTo(shadings[n].source);
-        const BinaryShading binary = encodeShadingBinary(shadings[n]);
+    for (const MeshShading& shading : shadings) {
+        shapesUpTo(shading.source);
+        const BinaryShading binary = encodeShadingBinary(shading);
         const int object = pdf.reserve();
         pdf.stream(object, binaryShadingEntries(binary) + " /Filter /FlateDecode",
                    deflateBytes(binary.data));
-        const std::string name = "/Sh" + std::to_string(n);
-        shadingResources += name + " " + PdfBuilder::ref(object) + " ";
-        paint += name + " sh\n";
+        content.shading(object);
     }
     shapesUpTo(SIZE_MAX);
-    paint += "Q\n";
+    content.paint += "Q\n";
     pdf.object(catalog, "<< /Type /Catalog /Pages " + PdfBuilder::ref(pages) + " >>");
     pdf.object(pages, "<< /Type /Pages /Kids [" + PdfBuilder::ref(page) + "] /Count 1 >>");
     pdf.object(page, "<< /Type /Page /Parent " + PdfBuilder::ref(pages) + " /MediaBox [0 0 " + w +
-                         " " + h + "] /Resources << /Shading << " + shadingResources + ">>" +
-                         (stateResources.empty() ? "" : " /ExtGState << " + stateResources + ">>") +
+                         " " + h + "] /Resources << /Shading << " + content.shadings + ">>" +
+                         (content.states.empty() ? "" : " /ExtGState << " + content.states + ">>") +
                          " >> /Contents " + PdfBuilder::ref(contents) + " >>");
-    pdf.stream(contents, "", paint);
+    pdf.stream(contents, "", content.paint);
     return pdf.finish(catalog);
 }
 

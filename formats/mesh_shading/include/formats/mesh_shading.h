@@ -1,5 +1,6 @@
 // Patch-mesh shadings (PDF / PostScript shading type 7, tensor-product patches) shared by the
-// EPS and PDF writers.
+// EPS and PDF writers; also their flat shapes as paths and linear gradients as axial shadings
+// (type 2).
 //
 // Coordinates stay in canvas pixels with y down; each writer maps them to its page with a y
 // flip. Every patch is written with edge flag 0 (16 points and 4 colours), so a mesh with holes
@@ -71,6 +72,7 @@ struct PathOperators {
     const char* setLineWidth;    // after the width: "w", "setlinewidth"
     const char* roundCapsJoins;  // "1 J 1 j", "1 setlinecap 1 setlinejoin"
     const char* stroke;          // "S", "stroke"
+    const char* clip;            // nonzero clip, the path then dropped: "W n", "clip newpath"
 };
 extern const PathOperators kPdfPathOperators;
 extern const PathOperators kPostScriptPathOperators;
@@ -79,6 +81,21 @@ extern const PathOperators kPostScriptPathOperators;
 // coordinates to 1/1000 px, lines under 255 characters; cubics whose handles lie at a third and
 // two thirds of their chord as lines.
 std::string shapeFillOperators(const FlatShape& shape, const PathOperators& ops);
+
+// A filled shape's outline made the clipping path (nonzero, the rule its fill uses), as above
+// without colour or paint. The clip stays set: the caller brackets it (q and Q, gsave and
+// grestore).
+std::string shapeClipOperators(const FlatShape& shape, const PathOperators& ops);
+
+// The dictionary entries common to PostScript and PDF for a linear gradient as an axial
+// shading: "/ShadingType 2 /ColorSpace /DeviceRGB /Coords [x0 y0 x1 y1] /Extend [true true]"
+// and on a line of its own the /Function: for two stops a type 2 (exponential, N 1) from the
+// first stop's colour to the second's; for more a type 3 stitching such pieces, its /Bounds the
+// inner offsets, its /Encode [0 1 0 1 ...]. Coordinates are canvas pixels (the writers' y flip
+// applies) to 1/100 px, offsets to 1e-6, colours (clamped to 0–1) to 1e-4; a piece whose
+// offsets round to one value is left out, so that the bounds increase strictly. Lines stay under
+// 255 characters.
+std::string axialShadingEntries(const LinearGradient& gradient);
 
 // A stroked shape's centrelines stroked in its colour (opaque, as above), its width to 1/1000
 // px, round caps and joins; closed centrelines closed (their last line left to the close),
