@@ -110,9 +110,12 @@ const char* const kConvertHelp =
     "  --total-patches N       with --segment: one patch budget for the whole image, shared\n"
     "                          out where it lowers the error most (each region converted at\n"
     "                          several budgets; --max-error still stops each region);\n"
-    "                          0: every region one flat colour, no mesh (a flat trace)\n"
+    "                          0: every region one flat colour or linear gradient, no mesh\n"
+    "                          (a flat trace)\n"
     "  --no-strokes            with --segment: thin lines and rings as filled outlines, not\n"
     "                          as strokes along their centrelines\n"
+    "  --no-gradients          with --segment: flat regions in one colour each, never a\n"
+    "                          linear gradient\n"
     "  --threads N             regions converted at once (default: all cores)\n"
     GRADMESH_COMMON_OPTIONS;
 

@@ -37,7 +37,8 @@ const std::set<std::string> kImageValuedOptions = {
     "--mask", "--max-error", "--max-patches", "--report", "--colors", "--max-pixels",
     "--min-area", "--min-hole", "--samples", "--segments", "--min-region", "--threads",
     "--total-patches"};
-const std::set<std::string> kImageFlagOptions = {"--segment", "--no-strokes"};
+const std::set<std::string> kImageFlagOptions = {"--segment", "--no-strokes",
+                                                    "--no-gradients"};
 
 namespace {
 
@@ -227,9 +228,11 @@ ImageJob parseImageJob(const std::map<std::string, std::string>& values) {
     so.totalPatches = static_cast<int>(number(values, "--total-patches", 0, 0, 1e8));
     so.flatOnly = values.count("--total-patches") && so.totalPatches == 0;
     so.strokes = values.count("--no-strokes") == 0;
+    so.gradients = values.count("--no-gradients") == 0;
     co.threads = so.threads;
     if (!job.segment)
-        for (const char* o : {"--segments", "--min-region", "--total-patches", "--no-strokes"})
+        for (const char* o : {"--segments", "--min-region", "--total-patches", "--no-strokes",
+                              "--no-gradients"})
             if (values.count(o)) throw std::invalid_argument(std::string(o) + " needs --segment");
     if (job.segment && values.count("--mask"))
         throw std::invalid_argument("--segment converts the whole image; it takes no --mask");

@@ -514,6 +514,7 @@ public:
         drawnAt_ = firstRegionAt(regions);
         drawnAt_.resize(static_cast<size_t>(image.width) * image.height, -1);
         flat_.resize(regions.size());
+        graded_.resize(regions.size());
         if (options.flatShapes) {
             // Per pixel the last region holding it: a hole under --min-hole that a region's
             // mask fills is another region's, drawn on top of it.
@@ -524,9 +525,12 @@ public:
             parallelFor(static_cast<int>(regions.size()), workers_, [&](int k, int) {
                 Region own = regions[static_cast<size_t>(k)];
                 for (size_t p = 0; p < own.mask.size(); ++p) own.mask[p] = lastAt[p] == k;
-                flat_[static_cast<size_t>(k)] =
-                    fitFlatColour(image, own, options.convert.maxError,
-                                  static_cast<size_t>(k) >= firstInk, options.flat);
+                FlatFit& fit = flat_[static_cast<size_t>(k)];
+                fit = fitFlatColour(image, own, options.convert.maxError,
+                                    static_cast<size_t>(k) >= firstInk, options.flat);
+                if (!fit.flat && options.gradients && static_cast<size_t>(k) < firstInk)
+                    graded_[static_cast<size_t>(k)] =
+                        fitGradedRegion(image, own, options.convert.maxError, options.gradient);
             });
         }
     }
@@ -562,6 +566,7 @@ public:
                 if (budgeted && outcomes[w].converted())
                     outcomes[w].spill =
                         spillSse(outcomes[w].meshes, image_, drawnAt_, static_cast<int>(k));
+                if (!graded_[k].stops.empty()) preferGraded(k, outcomes[w]);
             }
             reportProgress(options_.convert, "regions", ++done, total);
         });
@@ -573,6 +578,7 @@ private:
     RegionOutcome flatOutcome(size_t k) const {
         RegionOutcome out;
         const Region& own = regions_[k];
+        LinearGradient gradient;
         try {
             FlatOptions flatOptions = options_.flat;
             const double coarser =
@@ -584,7 +590,8 @@ private:
                 flatOptions.outlineSmoothing = flatOptions.inkOutlineSmoothing;
                 flatOptions.blendEachSide = true;
             }
-            if (options_.strokes) {
+            gradient = flatGradient(k);
+            if (options_.strokes && gradient.stops.empty()) {
                 StrokeOptions strokeOptions = options_.stroke;
                 strokeOptions.curveTolerance *= coarser;
                 strokeOptions.maxMismatch *= coarser;
@@ -594,7 +601,7 @@ private:
             }
             if (out.shapes.empty())
                 out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
-                                             drawnLaterOrNone(k), flatOptions)};
+                                             drawnLaterOrNone(k), flatOptions, gradient)};
         } catch (const Error& e) {
             out.fallback = "as a flat shape: " + e.reason();
             return out;
@@ -602,9 +609,53 @@ private:
         out.fate = RegionFate::Flat;
         out.report.pixels = own.pixelCount;
         out.report.holes = static_cast<int>(own.holes.size());
-        out.report.part = out.shapes.front().stroked() ? "stroke" : "flat";
-        out.report.error = flat_[k].all;
+        const bool graded = out.shapes.front().graded();
+        out.report.part = out.shapes.front().stroked() ? "stroke" : graded ? "gradient" : "flat";
+        out.report.error =
+            graded ? gradientFitError(image_, shownPixels(k), gradient) : flat_[k].all;
         return out;
+    }
+
+    // Region k as its graded flat shape instead of `meshed` (its mesh outcome) when that draws
+    // it no worse: E and RMSE over the pixels where it shows at most the mesh's.
+    void preferGraded(size_t k, RegionOutcome& meshed) const {
+        RegionOutcome graded = flatOutcome(k);
+        if (!graded.converted()) return;
+        const FitError& g = graded.report.error;
+        const FitError& m = meshed.report.error;
+        if (meshed.converted() && (g.meanAbs > m.meanAbs || g.rmse > m.rmse)) return;
+        meshed = std::move(graded);
+    }
+
+    // Region k's gradient: the one that fits it in place of a mesh, else (a flat region before
+    // the ink lines, with gradients) the one that pays for its bytes, fitted to the pixels
+    // inside it that show (border pixels blend with the neighbours); else none.
+    LinearGradient flatGradient(size_t k) const {
+        if (!graded_[k].stops.empty()) return graded_[k];
+        if (!options_.gradients || k >= firstInk_) return {};
+        const std::vector<uint8_t>& mask = regions_[k].mask;
+        const size_t w = static_cast<size_t>(regions_[k].width);
+        const std::vector<size_t> shown = shownPixels(k);
+        std::vector<size_t> inside;
+        for (size_t p : shown)
+            if (p % w > 0 && p % w + 1 < w && p >= w && p + w < mask.size() && mask[p - 1] &&
+                mask[p + 1] && mask[p - w] && mask[p + w])
+                inside.push_back(p);
+        // A thin region (a rim, a frame) is nearly all border: its few inside pixels say
+        // nothing of the colour along it.
+        if (double(inside.size()) < options_.flat.minInteriorShare * double(shown.size())) return {};
+        GradientFitOptions gradientOptions = options_.gradient;
+        gradientOptions.errorPerByte = options_.gradientErrorPerByte;
+        return fitPayingGradient(image_, inside, flat_[k].col, gradientOptions);
+    }
+
+    // The pixels of region k that no later region paints over.
+    std::vector<size_t> shownPixels(size_t k) const {
+        std::vector<size_t> shown;
+        const std::vector<uint8_t>& mask = regions_[k].mask;
+        for (size_t p = 0; p < mask.size(); ++p)
+            if (mask[p] && !(drawnAt_[p] > static_cast<int>(k))) shown.push_back(p);
+        return shown;
     }
 
     // ... and the pixels of no region (the base mesh paints them, beneath every shape): a flat
@@ -632,6 +683,7 @@ private:
     std::vector<int> drawnAt_;  // per pixel: the first region (in drawing order) holding it
     std::vector<RegionMapCache> caches_;
     std::vector<FlatFit> flat_;  // per region: its colour and whether it is flat
+    std::vector<LinearGradient> graded_;  // per region not flat: the gradient that fits it
 };
 
 // --total-patches: every region at the budget ladder up to a generous budget, to measure its

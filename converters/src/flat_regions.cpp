@@ -160,7 +160,7 @@ Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int
 
 Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                        const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
-                       const Vec3& col, bool eachSide) {
+                       const Vec3& flat, bool eachSide, const LinearGradient* gradient) {
     const int w = image.width, h = image.height;
     Coverage c;
     c.width = w, c.height = h;
@@ -176,6 +176,7 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                 c.values[k] = 1;
                 continue;
             }
+            const Vec3 col = gradient ? gradient->colourAt({x + 0.5, y + 0.5}) : flat;
             const Vec3 other = blendPartner(image, grown, x, y, kReach, col, eachSide);
             const Vec3 axis = col - other;
             const double len2 = dot3(axis, axis);
@@ -644,7 +645,8 @@ std::vector<Vec2> fitOpenCubics(const std::vector<Vec2>& polyline, double tolera
 }
 
 FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
-                         const std::vector<uint8_t>& under, const FlatOptions& options) {
+                         const std::vector<uint8_t>& under, const FlatOptions& options,
+                         const LinearGradient& gradient) {
     const int w = own.width, h = own.height;
     std::vector<uint8_t> grown = own.mask;
     if (overlap > 0) {
@@ -660,12 +662,14 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     regionOptions.smoothing = options.coverageSmoothing;
     const bool sameSize = image.width == w && image.height == h;
     const std::vector<Region> traced = extractRegions(
-        sameSize ? shareCoverage(image, own.mask, grown, under, col, options.blendEachSide)
+        sameSize ? shareCoverage(image, own.mask, grown, under, col, options.blendEachSide,
+                                 gradient.stops.empty() ? nullptr : &gradient)
                  : coverageFromBits(w, h, grown),
         regionOptions);
     if (traced.empty()) throw Error("the flat region vanished");
     FlatShape shape;
     shape.col = col;
+    shape.gradient = gradient;
     // Every piece the outline traces around some of the region's pixels: a line whose coverage
     // dips below one half somewhere traces as several.
     for (const Region& piece : traced) {

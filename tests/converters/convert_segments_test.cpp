@@ -178,6 +178,7 @@ TEST_CASE("a region with parts too thin for its map gets them as meshes of their
             SegmentConvertOptions o;
             o.neckSplits = splits;
             o.segment.inkLines = false;  // else the comb is lifted as ink lines, flat shapes
+            o.gradients = false;  // else the box and comb, a vertical ramp, are one gradient
             SegmentConvertReport rep;
             const Document doc = convertSegmented(image, o, "box with comb", &rep);
             for (size_t k = 0; k < rep.fallbacks.size(); ++k)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "converters/convert_image.h"
+#include "converters/flat_gradient.h"
 #include "converters/flat_regions.h"
 #include "converters/flat_strokes.h"
 #include "converters/neck.h"
@@ -104,6 +105,14 @@ struct SegmentConvertOptions {
     // (flat_strokes.h) when they match it; else as a filled outline. False: always filled.
     bool strokes = true;
     StrokeOptions stroke;
+    // A flat region whose colour runs across it is painted with a linear gradient
+    // (flat_gradient.h) when that pays: each byte must win back gradientErrorPerByte of
+    // squared error (0–255 units, the mean over channels, summed over pixels); and a shaded
+    // region that a gradient fits is a graded flat shape when that draws it no worse than its
+    // mesh. False: one colour per flat region, a mesh for every shaded one.
+    bool gradients = true;
+    double gradientErrorPerByte = 1000;
+    GradientFitOptions gradient;
 };
 
 struct SegmentConvertReport {

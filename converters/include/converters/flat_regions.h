@@ -76,9 +76,12 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
 // with cubic Béziers within options.curveTolerance. Where the shape is seen, the outline lies
 // where the image's anti-aliased border pixels say (each pixel's share of `col` against the
 // colour beyond, traced at one half). Subpaths: the outer boundary (clockwise on screen), then
-// each hole (counter-clockwise). Throws gm::Error if nothing is left.
+// each hole (counter-clockwise). With a `gradient` (stops), the shape is painted with it and
+// its border pixels are read against the gradient's colour at each. Throws gm::Error if
+// nothing is left.
 FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& col, int overlap,
-                         const std::vector<uint8_t>& under, const FlatOptions& options = {});
+                         const std::vector<uint8_t>& under, const FlatOptions& options = {},
+                         const LinearGradient& gradient = {});
 
 // How much of colour `col` each pixel holds, 0–1, for tracing an outline between pixel centres:
 // 1 where the shape reaches under later regions (`grown` and `under`, or grown beyond `own`:
@@ -86,10 +89,11 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
 // within two pixels (an anti-aliased border blends the two; with `eachSide`, the neighbour
 // that explains the pixel best, else the one furthest from col); a pixel with no such
 // neighbour, or whose neighbours' colour is too close to `col` to tell a share, is 1 in the
-// region and 0 outside it. All masks are the image's size.
+// region and 0 outside it. With a `gradient`, its colour at each pixel stands for `col`. All
+// masks are the image's size.
 Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                        const std::vector<uint8_t>& grown, const std::vector<uint8_t>& under,
-                       const Vec3& col, bool eachSide);
+                       const Vec3& col, bool eachSide, const LinearGradient* gradient = nullptr);
 
 // The whole canvas as a flat shape of colour `col`, its outline clockwise on screen.
 FlatShape canvasRectangle(int width, int height, const Vec3& col);
