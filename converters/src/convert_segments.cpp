@@ -493,6 +493,43 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
 // no more than the error the conversion aims at.
 constexpr double kBackdropMergeShare = 1.0;
 
+// Whether the cubic a, h1, h2, b has its handles at the thirds of its chord: a line.
+bool isStraight(Vec2 a, Vec2 h1, Vec2 h2, Vec2 b) {
+    return norm(h1 - (a + (1.0 / 3) * (b - a))) < 1e-6 &&
+           norm(h2 - (a + (2.0 / 3) * (b - a))) < 1e-6;
+}
+
+// A subpath's points on a grid of `step` pixels (a closed centreline's last point, its first,
+// stays so); a straight segment's handles stay at the thirds of its moved ends, so that it is
+// still written as a line.
+void snapSubpath(std::vector<Vec2>& path, bool closed, double step) {
+    const size_t n = path.size(), segments = closed ? n / 3 : (n - 1) / 3;
+    std::vector<char> straight(segments);
+    for (size_t m = 0; m < segments; ++m)
+        straight[m] =
+            isStraight(path[3 * m], path[3 * m + 1], path[3 * m + 2], path[(3 * m + 3) % n]);
+    auto snap = [step](Vec2 p) {
+        return Vec2{std::round(p.x / step) * step, std::round(p.y / step) * step};
+    };
+    for (Vec2& p : path) p = snap(p);
+    for (size_t m = 0; m < segments; ++m)
+        if (straight[m]) {
+            const Vec2 a = path[3 * m], b = path[(3 * m + 3) % n];
+            path[3 * m + 1] = a + (1.0 / 3) * (b - a);
+            path[3 * m + 2] = a + (2.0 / 3) * (b - a);
+        }
+}
+
+// The shapes' points on a grid of options.coarseGrid pixels when they were fitted within
+// `tolerance` of at least options.coarseGridTolerance: a point moves at most 0.71 of a grid
+// step, well within the fit, and an SVG writes its coordinates with a decimal fewer.
+void snapToGrid(std::vector<FlatShape>& shapes, double tolerance, const FlatOptions& options) {
+    if (!(options.coarseGrid > 0) || tolerance < options.coarseGridTolerance) return;
+    for (FlatShape& shape : shapes)
+        for (std::vector<Vec2>& path : shape.subpaths)
+            snapSubpath(path, !shape.stroked(), options.coarseGrid);
+}
+
 // Converts regions of a whole image, several at once. Regions are drawn in their order
 // (largest first): a region reaches under the later ones only, so each pixel keeps the
 // colour of its own region and seams show the region beneath.
@@ -598,10 +635,13 @@ private:
                 strokeOptions.maxWrongShare *= coarser;
                 out.shapes = traceStrokes(image_, own, flat_[k].col, drawnLaterOrNone(k),
                                           strokeOptions);
+                snapToGrid(out.shapes, strokeOptions.curveTolerance, flatOptions);
             }
-            if (out.shapes.empty())
+            if (out.shapes.empty()) {
                 out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
                                              drawnLaterOrNone(k), flatOptions, gradient)};
+                snapToGrid(out.shapes, flatOptions.curveTolerance, flatOptions);
+            }
         } catch (const Error& e) {
             out.fallback = "as a flat shape: " + e.reason();
             return out;

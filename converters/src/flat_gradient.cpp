@@ -55,8 +55,7 @@ struct Profile {
 
 constexpr int kMaxBins = 160;
 
-Profile profileAlong(const RgbaImage& image, const std::vector<size_t>& at, Vec2 origin,
-                     Vec2 dir) {
+Profile profileAlong(const RgbaImage& image, const std::vector<size_t>& at, Vec2 origin, Vec2 dir) {
     Profile pr;
     pr.origin = origin, pr.dir = dir;
     double lo = INFINITY, hi = -INFINITY;
@@ -100,8 +99,14 @@ struct ProfileFit {
 // next one's s; padded beyond the ends.
 void hatWeights(const std::vector<double>& knots, double t, size_t& a, double& s) {
     const size_t n = knots.size();
-    if (t <= knots.front()) { a = 0, s = 0; return; }
-    if (t >= knots.back()) { a = n - 2, s = 1; return; }
+    if (t <= knots.front()) {
+        a = 0, s = 0;
+        return;
+    }
+    if (t >= knots.back()) {
+        a = n - 2, s = 1;
+        return;
+    }
     a = 0;
     while (a + 2 < n && knots[a + 1] < t) ++a;
     s = (t - knots[a]) / (knots[a + 1] - knots[a]);
@@ -199,8 +204,9 @@ LinearGradient toGradient(const Profile& pr, const ProfileFit& fit) {
     g.from = pr.origin + first * pr.dir;
     g.to = pr.origin + last * pr.dir;
     for (size_t j = 0; j < fit.knots.size(); ++j) {
-        const double offset =
-            j == 0 ? 0.0 : j + 1 == fit.knots.size() ? 1.0 : (fit.knots[j] - first) / (last - first);
+        const double offset = j == 0                      ? 0.0
+                              : j + 1 == fit.knots.size() ? 1.0
+                                                          : (fit.knots[j] - first) / (last - first);
         g.stops.push_back({offset, fit.cols[j]});
     }
     return g;
@@ -227,7 +233,8 @@ std::vector<LinearGradient> candidateGradients(const RgbaImage& image,
         for (size_t i = 0; i < fits.size(); ++i) {
             if (!(fits[i].knots.back() - fits[i].knots.front() >= 1)) continue;
             if (best.size() <= i) best.resize(i + 1), bestSse.resize(i + 1, INFINITY);
-            if (fits[i].sse < bestSse[i]) bestSse[i] = fits[i].sse, best[i] = toGradient(pr, fits[i]);
+            if (fits[i].sse < bestSse[i])
+                bestSse[i] = fits[i].sse, best[i] = toGradient(pr, fits[i]);
         }
     }
     return best;

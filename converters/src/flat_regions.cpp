@@ -7,6 +7,7 @@
 #include <deque>
 
 #include "converters/regions.h"
+#include "outline_slack.h"
 #include "meshcore/error.h"
 #include "meshcore/geometry.h"
 
@@ -204,12 +205,15 @@ Vec2 bezierAt(const Vec2 q[4], double t) {
 }
 
 // Fits cubics to the points pts[a..b] of a closed point list (indices modulo its size), with unit
-// tangents tA (leaving pts[a]) and tB (arriving at pts[b], pointing back along the curve); appends
-// each cubic's first three points (start and handles) to `out`.
+// tangents tA (leaving pts[a]) and tB (arriving at pts[b], pointing back along the curve), each
+// point within its own tolerance; appends each cubic's first three points (start and handles)
+// to `out`.
 class CubicFitter {
 public:
     CubicFitter(const std::vector<Vec2>& pts, double tolerance)
-        : pts_(pts), n_(pts.size()), tol_(tolerance) {}
+        : CubicFitter(pts, std::vector<double>(pts.size(), tolerance)) {}
+    CubicFitter(const std::vector<Vec2>& pts, std::vector<double> tolerances)
+        : pts_(pts), n_(pts.size()), tol_(std::move(tolerances)) {}
 
     void fit(size_t a, size_t b, Vec2 tA, Vec2 tB, std::vector<Vec2>& out, int depth = 0) {
         const size_t count = b - a;  // b may exceed n_: indices wrap
@@ -223,12 +227,13 @@ public:
         solveHandles(a, b, tA, tB, param, q);
         size_t worst = a;
         double error = maxError(a, b, q, param, worst);
-        for (int pass = 0; pass < 4 && error > tol_ && error < 4 * tol_; ++pass) {
+        // `error`: the largest distance of a point from the curve over its tolerance.
+        for (int pass = 0; pass < 4 && error > 1 && error < 4; ++pass) {
             reparametrise(a, b, q, param);
             solveHandles(a, b, tA, tB, param, q);
             error = maxError(a, b, q, param, worst);
         }
-        if (error <= tol_) {
+        if (error <= 1) {
             out.insert(out.end(), {q[0], q[1], q[2]});
             return;
         }
@@ -281,7 +286,7 @@ private:
         double most = 0;
         worst = a;
         for (size_t k = a + 1; k < b; ++k) {
-            const double d = norm(bezierAt(q, u[k - a]) - at(k));
+            const double d = norm(bezierAt(q, u[k - a]) - at(k)) / tol_[k % n_];
             if (d > most) most = d, worst = k;
         }
         return most;
@@ -302,7 +307,7 @@ private:
 
     const std::vector<Vec2>& pts_;
     const size_t n_;
-    const double tol_;
+    const std::vector<double> tol_;  // per point, > 0
 };
 
 // The polygon with extra points so that no edge is longer than one pixel; `vertexAt` gets the
@@ -506,8 +511,13 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
     return fit;
 }
 
-std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance,
-                                  const OutlineSmoothing& smoothing) {
+namespace {
+
+// fitClosedCubics, each point's tolerance raised to the room `slack` gives it there (none
+// without a map); where it has room, its turns are neither corners nor held.
+std::vector<Vec2> fitClosedCubicsWithin(const std::vector<Vec2>& polygon, double tolerance,
+                                        const OutlineSmoothing& smoothing,
+                                        const OutlineSlack* slack) {
     std::vector<Vec2> out;
     const size_t m = polygon.size();
     if (m < 3) {
@@ -526,15 +536,19 @@ std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double toler
     std::vector<size_t> corners, turning;
     size_t sharpest = 0;
     double sharpestAngle = -1;
+    auto roomAt = [&](Vec2 p) { return slack ? slack->at(p) : 0.0; };
     for (size_t k = 0; k < m; ++k) {
         const double a = turns[k];
+        if (roomAt(polygon[k]) > tolerance) continue;
         if (a > smoothing.holdTurn * M_PI / 180) turning.push_back(vertexAt[k]);
         if (a > kCornerAngle && isSharpestNear(polygon, turns, k, 1.0))
             corners.push_back(vertexAt[k]);
         if (a > sharpestAngle) sharpestAngle = a, sharpest = vertexAt[k];
     }
     const std::vector<Vec2> smoothed = smoothLoop(pts, turning, smoothing);
-    CubicFitter fitter(smoothed, tolerance);
+    std::vector<double> tolerances(n);
+    for (size_t k = 0; k < n; ++k) tolerances[k] = std::max(tolerance, roomAt(pts[k]));
+    CubicFitter fitter(smoothed, std::move(tolerances));
     auto at = [&](size_t k) { return smoothed[k % n]; };
     if (corners.empty()) {
         const Vec2 t = unit(at(sharpest + 1) - at(sharpest + n - 1));
@@ -547,6 +561,13 @@ std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double toler
         fitter.fit(a, b, unit(at(a + 1) - at(a)), unit(at(b + n - 1) - at(b)), out);
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<Vec2> fitClosedCubics(const std::vector<Vec2>& polygon, double tolerance,
+                                  const OutlineSmoothing& smoothing) {
+    return fitClosedCubicsWithin(polygon, tolerance, smoothing, nullptr);
 }
 
 namespace {
@@ -649,10 +670,15 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
                          const LinearGradient& gradient) {
     const int w = own.width, h = own.height;
     std::vector<uint8_t> grown = own.mask;
-    if (overlap > 0) {
-        const std::vector<uint8_t> d = dilateMask(own.mask, w, h, overlap);
+    const bool sameSize = image.width == w && image.height == h;
+    const int reach = std::max(overlap, static_cast<int>(std::ceil(options.hiddenReach)));
+    if (reach > 0) {
+        const std::vector<uint8_t> d = dilateMask(own.mask, w, h, reach);
         for (size_t k = 0; k < grown.size(); ++k) grown[k] = grown[k] || (d[k] && under[k]);
     }
+    const OutlineSlack slack = options.hiddenReach > 0 && sameSize
+                                   ? hiddenOutlineSlack(own.mask, under, w, h, options.hiddenReach)
+                                   : OutlineSlack{};
     fillHolesUnder(grown, under, w, h);
     RegionOptions regionOptions;
     regionOptions.minArea = 1;
@@ -660,7 +686,6 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     regionOptions.simplifyTolerance = 0.1;
     regionOptions.maxSegment = 1e6;
     regionOptions.smoothing = options.coverageSmoothing;
-    const bool sameSize = image.width == w && image.height == h;
     const std::vector<Region> traced = extractRegions(
         sameSize ? shareCoverage(image, own.mask, grown, under, col, options.blendEachSide,
                                  gradient.stops.empty() ? nullptr : &gradient)
@@ -674,11 +699,11 @@ FlatShape traceFlatShape(const RgbaImage& image, const Region& own, const Vec3& 
     // dips below one half somewhere traces as several.
     for (const Region& piece : traced) {
         if (!holdsAny(piece.mask, own.mask)) continue;  // another region's border, not ours
-        shape.subpaths.push_back(
-            fitClosedCubics(piece.outer.points, options.curveTolerance, options.outlineSmoothing));
+        shape.subpaths.push_back(fitClosedCubicsWithin(piece.outer.points, options.curveTolerance,
+                                                       options.outlineSmoothing, &slack));
         for (const Polygon& hole : piece.holes)
-            shape.subpaths.push_back(
-                fitClosedCubics(hole.points, options.curveTolerance, options.outlineSmoothing));
+            shape.subpaths.push_back(fitClosedCubicsWithin(hole.points, options.curveTolerance,
+                                                           options.outlineSmoothing, &slack));
     }
     return shape;
 }

@@ -3,7 +3,6 @@
 #include "converters/flat_gradient.h"
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <vector>
 
@@ -165,9 +164,8 @@ TEST_CASE("a flat trace grades the regions whose colour runs across them",
     convertSegmented(image, options, "HappyFish.jpg", &plain);
     int count = 0;
     for (const FlatShape& s : doc.shapes) count += s.graded();
-    WARN("HappyFish at E 8, flat: " << count << " graded shapes, PSNR "
-                                   << graded.convert.error.psnr << " dB against "
-                                   << plain.convert.error.psnr << " dB without");
+    WARN("HappyFish at E 8, flat: " << count << " graded shapes, PSNR " << graded.convert.error.psnr
+                                    << " dB against " << plain.convert.error.psnr << " dB without");
     CHECK(doc.meshes.empty());
     CHECK(count >= 4);
     CHECK(graded.convert.error.psnr > plain.convert.error.psnr + 1);

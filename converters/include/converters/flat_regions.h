@@ -53,6 +53,16 @@ struct FlatOptions {
     // within a pixel or two, so its outline is held wherever it turns more gently.
     OutlineSmoothing outlineSmoothing{1.5, 50, 0.5};
     OutlineSmoothing inkOutlineSmoothing{1.0, 30, 0.5};
+    // Where a shape reaches under regions drawn after it, its outline lies up to hiddenReach
+    // pixels beneath them and may stray from the traced one as far as it keeps clear of the
+    // pixels it must not paint and of its own that show (outline_slack.h): what covers it
+    // there hides its jagged border. 0: it follows the trace everywhere.
+    double hiddenReach = 1.5;
+    // A shape whose outline or centreline was fitted within coarseGridTolerance pixels or more
+    // has its points put on a grid of coarseGrid pixels (convertSegmented): an SVG then writes
+    // one decimal where it wrote two. 0: never.
+    double coarseGrid = 0.1;
+    double coarseGridTolerance = 0.5;
     // Holes of fewer pixels are filled: a border pixel that holds less than half of the shape's
     // colour makes a speck of a hole, which what is drawn on top covers anyway.
     int minHole = 3;
