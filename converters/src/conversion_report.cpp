@@ -48,6 +48,7 @@ void writeSegmentsJson(std::ostringstream& s, const SegmentConvertReport& report
       << ", \"base_patches\": " << report.basePatches
       << ", \"flat_backdrop\": " << (report.flatBackdrop ? "true" : "false")
       << ", \"merged_into_backdrop\": " << report.mergedIntoBackdrop
+      << ", \"residue_regions\": " << report.residueRegions
       << ", \"lifted_thin\": " << report.liftedThin
       << ", \"merged_across_thin\": " << report.mergedAcrossThin
       << ", \"region_uncovered\": " << num(report.regionUncovered)

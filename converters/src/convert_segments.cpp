@@ -13,6 +13,7 @@
 #include "converters/neck.h"
 #include "converters/regions.h"
 #include "flat_backdrop.h"
+#include "converters/flat_residue.h"
 #include "thin_on_top.h"
 #include "meshcore/error.h"
 #include "meshcore/parallel_for.h"
@@ -493,6 +494,10 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
 // no more than the error the conversion aims at.
 constexpr double kBackdropMergeShare = 1.0;
 
+// Without gradients, what a residue region must win back per byte of its shape (flat_residue.h);
+// with them, SegmentConvertOptions::gradientErrorPerByte, the same trade.
+constexpr double kResidueErrorPerByte = 1000;
+
 // Whether the cubic a, h1, h2, b has its handles at the thirds of its chord: a line.
 bool isStraight(Vec2 a, Vec2 h1, Vec2 h2, Vec2 b) {
     return norm(h1 - (a + (1.0 / 3) * (b - a))) < 1e-6 &&
@@ -525,9 +530,22 @@ void snapSubpath(std::vector<Vec2>& path, bool closed, double step) {
 // step, well within the fit, and an SVG writes its coordinates with a decimal fewer.
 void snapToGrid(std::vector<FlatShape>& shapes, double tolerance, const FlatOptions& options) {
     if (!(options.coarseGrid > 0) || tolerance < options.coarseGridTolerance) return;
-    for (FlatShape& shape : shapes)
+    for (FlatShape& shape : shapes) {
         for (std::vector<Vec2>& path : shape.subpaths)
             snapSubpath(path, !shape.stroked(), options.coarseGrid);
+        // A loop that fell onto one grid point is gone (a speck of a region).
+        auto collapsed = [&](const std::vector<Vec2>& path) {
+            return !shape.stroked() && std::all_of(path.begin(), path.end(),
+                                                   [&](Vec2 p) { return p == path.front(); });
+        };
+        shape.subpaths.erase(
+            std::remove_if(shape.subpaths.begin(), shape.subpaths.end(), collapsed),
+            shape.subpaths.end());
+    }
+    shapes.erase(std::remove_if(shapes.begin(), shapes.end(),
+                                [](const FlatShape& s) { return s.subpaths.empty(); }),
+                 shapes.end());
+    if (shapes.empty()) throw Error("its outline is a speck under a tenth of a pixel");
 }
 
 // Converts regions of a whole image, several at once. Regions are drawn in their order
@@ -609,6 +627,9 @@ public:
         });
     }
 
+    // Region k's fill: the gradient flatOutcome paints it with, or none (its flat colour).
+    LinearGradient fillGradient(size_t k) const { return flatGradient(k); }
+
 private:
     // Region k as a flat shape reaching under the later regions; Failed (the reason in
     // `fallback`) when its outline cannot be traced.
@@ -635,7 +656,8 @@ private:
                 strokeOptions.maxWrongShare *= coarser;
                 out.shapes = traceStrokes(image_, own, flat_[k].col, drawnLaterOrNone(k),
                                           strokeOptions);
-                snapToGrid(out.shapes, strokeOptions.curveTolerance, flatOptions);
+                if (!out.shapes.empty())
+                    snapToGrid(out.shapes, strokeOptions.curveTolerance, flatOptions);
             }
             if (out.shapes.empty()) {
                 out.shapes = {traceFlatShape(image_, own, flat_[k].col, options_.overlap,
@@ -962,6 +984,25 @@ bool liftThinFlatRegions(std::vector<Region>& regions, size_t& firstInk,
     return true;
 }
 
+// What the flat regions' paint misses by far, as regions of their own on top of them
+// (flat_residue.h). Returns whether any was added.
+bool addResidue(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
+                const SegmentConvertOptions& options, const RegionConverter& converter,
+                SegmentConvertReport& segmentReport) {
+    std::vector<LinearGradient> fills(firstInk);
+    for (size_t k = 0; k < firstInk; ++k) fills[k] = converter.fillGradient(k);
+    const auto paint = [&](size_t k, size_t p) {
+        if (fills[k].stops.empty()) return converter.flatColour(k);
+        return fills[k].colourAt({double(p % image.width) + 0.5, double(p / image.width) + 0.5});
+    };
+    const size_t added =
+        addResidueRegions(image, regions, firstInk, paint, options.convert.maxError,
+                          options.gradients ? options.gradientErrorPerByte : kResidueErrorPerByte,
+                          options.residueOptions);
+    segmentReport.residueRegions = static_cast<int>(added);
+    return added > 0;
+}
+
 }  // namespace
 
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
@@ -1014,6 +1055,9 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
 
     if (used.strokes && used.flatShapes && liftThinFlatRegions(regions, firstInk, used, *converter,
                                                                segmentReport))
+        converter = makeConverter(used);
+    if (allFlat && used.residue && addResidue(image, regions, firstInk, used, *converter,
+                                              segmentReport))
         converter = makeConverter(used);
 
     auto t0 = Clock::now();

@@ -13,6 +13,7 @@
 #include "converters/convert_image.h"
 #include "converters/flat_gradient.h"
 #include "converters/flat_regions.h"
+#include "converters/flat_residue.h"
 #include "converters/flat_strokes.h"
 #include "converters/neck.h"
 #include "converters/segment.h"
@@ -113,6 +114,10 @@ struct SegmentConvertOptions {
     bool gradients = true;
     double gradientErrorPerByte = 1000;
     GradientFitOptions gradient;
+    // With flatOnly, what the regions' paint misses by far (a bubble on a plain background)
+    // becomes regions of their own on top (flat_residue.h), where that pays as gradients do.
+    bool residue = true;
+    ResidueOptions residueOptions;
 };
 
 struct SegmentConvertReport {
@@ -132,6 +137,8 @@ struct SegmentConvertReport {
     bool flatBackdrop = false;   // every region flat: a flat rectangle instead of the base mesh
     int mergedIntoBackdrop = 0;  // flatOnly: regions of nearly the backdrop's colour that joined
                                  // it (flat_backdrop.h)
+    int residueRegions = 0;      // flatOnly: blobs the regions missed, drawn on top of them
+                                 // (flat_residue.h)
     int liftedThin = 0;          // thin flat regions drawn after the others (thin_on_top.h)
     int mergedAcrossThin = 0;    // ... and regions of one colour they parted, merged
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)

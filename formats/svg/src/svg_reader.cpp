@@ -1000,13 +1000,15 @@ void readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root,
     const Affine t = compose(canvas.viewBoxShift, shapeTransform(el, root, rd));
     FlatShape shape;
     shape.layer = layer;
+    // A fill of no segment ("M x y z") paints nothing: no shape.
     if (isGradient(server)) {
-        if (readGradientFill(el, server, index, t, canvas, points, shape, rd))
+        if (readGradientFill(el, server, index, t, canvas, points, shape, rd) &&
+            !shape.subpaths.empty())
             shapes.push_back(std::move(shape));
     } else if (parseHexColour(fill, shape.col)) {
         shape.alpha = readOpacity(el, "fill-opacity", rd);
         shape.subpaths = readPathData(el, false, t, points, rd);
-        shapes.push_back(std::move(shape));
+        if (!shape.subpaths.empty()) shapes.push_back(std::move(shape));
     }
     FlatShape line;
     line.layer = layer;

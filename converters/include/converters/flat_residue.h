@@ -1,0 +1,41 @@
+// Whole images (docs/design.md §5): what a flat trace's regions miss, drawn on top of them. A
+// flat region paints one colour (or a gradient) over pixels the segmentation gave it; a detail
+// of another colour inside it (a bubble on a plain background, a highlight on a sweet) is lost
+// unless the segmentation cut it out. Connected pixels that their region's paint misses by far
+// become regions of their own, drawn after the others, where their colour wins back more error
+// than their outline costs.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "converters/region.h"
+#include "meshcore/gradient_mesh.h"
+#include "meshcore/image.h"
+
+namespace gm {
+
+struct ResidueOptions {
+    // Passes from coarse to fine: pixels whose mean channel error (0–255 units) exceeds
+    // errorMultiples[i] times the error target, at most caps[i], form the pass's blobs.
+    std::vector<double> errorMultiples{8, 5, 3};
+    std::vector<double> caps{96, 64, 40};
+    int minPixels = 15;  // smaller blobs (8-connected) are left
+    // What a blob's flat shape adds to an SVG, bytes: the element, and its outline per border
+    // pixel. Set above what the path text alone takes: a blob's traced, anti-aliased outline
+    // wins back less than its pixels painted exactly would.
+    double bytesPerBlob = 100;
+    double bytesPerBorderPixel = 3;
+};
+
+// Adds to `regions` (before the ink lines, from firstInk on, which moves past them) a region per
+// blob of pixels that `paint(k, p)` (region k's colour at pixel index p) misses, whose squared
+// error (0–255 units, mean over channels, summed) falls by at least errorPerByte per byte of its
+// shape when painted in its mean colour. A pixel belongs to the last region before firstInk
+// that holds it; pixels an ink line holds are left. Returns how many were added.
+size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
+                         const std::function<Vec3(size_t, size_t)>& paint, double maxError,
+                         double errorPerByte, const ResidueOptions& options = {});
+
+}  // namespace gm
