@@ -320,3 +320,18 @@ TEST_CASE("Inkscape draws stroked shapes like our renderer", "[svg][flat][stroke
     std::printf("[svg figures] Inkscape strokes: E %.3f\n", e);
     CHECK(e <= 0.5);
 }
+
+TEST_CASE("a filled path of no segment paints nothing and is no shape", "[svg][flat]") {
+    // "M x y z" encloses nothing: read as a shape, it would have no outline and fail the
+    // document's validation.
+    const std::string svg =
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 50 40\">"
+        "<path fill=\"#f00\" d=\"M10 10z\"/>"
+        "<linearGradient id=\"g\" x1=\"0\" x2=\"1\"><stop offset=\"0\" stop-color=\"#000\"/>"
+        "<stop offset=\"1\" stop-color=\"#fff\"/></linearGradient>"
+        "<path fill=\"url(#g)\" d=\"M20 20z M30 30\"/>"
+        "<path fill=\"#00f\" d=\"M5 5h10v10z\"/></svg>";
+    const Document doc = decodeSvg(svg, ReadLimits{});
+    REQUIRE(doc.shapes.size() == 1);
+    CHECK(doc.shapes[0].col.b == 1.0);
+}

@@ -938,7 +938,7 @@ void requireSrgbInterpolation(const std::vector<const XMLElement*>& chain, const
 
 // The fill of path `el` by the gradient `paint` as `shape`: its subpaths on the canvas, its
 // gradient, mean colour and opacity. false when it paints nothing (a gradient without stops
-// paints as `none`).
+// paints as `none`; a path of no segment encloses nothing).
 bool readGradientFill(const XMLElement* el, const XMLElement* paint, const ElementIndex& index,
                       const Affine& t, const Canvas& canvas, size_t& points, FlatShape& shape,
                       Reader& rd) {
@@ -955,6 +955,7 @@ bool readGradientFill(const XMLElement* el, const XMLElement* paint, const Eleme
         rd.fail("the flat paths and their gradients hold too many points", el);
     const std::vector<SvgStop> stops = readStops(stopEls, rd);
     std::vector<std::vector<Vec2>> user = userPathData(el, false, points, rd);
+    if (user.empty()) return false;  // no segment: nothing to fill, no box for its units
     shape.alpha = readOpacity(el, "fill-opacity", rd) * commonStopOpacity(stops, paint, el, rd);
     LinearGradient g;
     const bool graded = stops.size() > 1 && gradientAxis(chain, user, t, canvas, el, g, rd);
@@ -1002,8 +1003,7 @@ void readFlatPath(const XMLElement* el, size_t layer, const XMLElement* root,
     shape.layer = layer;
     // A fill of no segment ("M x y z") paints nothing: no shape.
     if (isGradient(server)) {
-        if (readGradientFill(el, server, index, t, canvas, points, shape, rd) &&
-            !shape.subpaths.empty())
+        if (readGradientFill(el, server, index, t, canvas, points, shape, rd))
             shapes.push_back(std::move(shape));
     } else if (parseHexColour(fill, shape.col)) {
         shape.alpha = readOpacity(el, "fill-opacity", rd);
