@@ -531,21 +531,20 @@ void snapSubpath(std::vector<Vec2>& path, bool closed, double step) {
 void snapToGrid(std::vector<FlatShape>& shapes, double tolerance, const FlatOptions& options) {
     if (!(options.coarseGrid > 0) || tolerance < options.coarseGridTolerance) return;
     for (FlatShape& shape : shapes) {
-        for (std::vector<Vec2>& path : shape.subpaths)
+        FlatShape snapped = shape;
+        for (std::vector<Vec2>& path : snapped.subpaths)
             snapSubpath(path, !shape.stroked(), options.coarseGrid);
-        // A loop that fell onto one grid point is gone (a speck of a region).
+        // A loop that fell onto one grid point is gone (a speck of the region); a shape that
+        // would be nothing but specks keeps its points as they were.
         auto collapsed = [&](const std::vector<Vec2>& path) {
             return !shape.stroked() && std::all_of(path.begin(), path.end(),
                                                    [&](Vec2 p) { return p == path.front(); });
         };
-        shape.subpaths.erase(
-            std::remove_if(shape.subpaths.begin(), shape.subpaths.end(), collapsed),
-            shape.subpaths.end());
+        snapped.subpaths.erase(
+            std::remove_if(snapped.subpaths.begin(), snapped.subpaths.end(), collapsed),
+            snapped.subpaths.end());
+        if (!snapped.subpaths.empty()) shape = std::move(snapped);
     }
-    shapes.erase(std::remove_if(shapes.begin(), shapes.end(),
-                                [](const FlatShape& s) { return s.subpaths.empty(); }),
-                 shapes.end());
-    if (shapes.empty()) throw Error("its outline is a speck under a tenth of a pixel");
 }
 
 // Converts regions of a whole image, several at once. Regions are drawn in their order

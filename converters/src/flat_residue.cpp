@@ -66,18 +66,28 @@ size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, s
     for (size_t k = 0; k < regions.size(); ++k)
         for (size_t p = 0; p < n; ++p)
             if (regions[k].mask[p]) owner[p] = k < firstInk ? static_cast<int>(k) : -1;
+    // A pixel beside another region's blends with it where the border is anti-aliased: the
+    // regions' outlines draw that, no blob.
+    std::vector<uint8_t> inside(n, 0);
+    for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+            const size_t p = static_cast<size_t>(y) * w + x;
+            bool same = owner[p] >= 0;
+            for (int dy = -1; dy <= 1 && same; ++dy)
+                for (int dx = -1; dx <= 1 && same; ++dx)
+                    same = owner[p + static_cast<size_t>(dy * w + dx)] == owner[p];
+            inside[p] = same;
+        }
     std::vector<Vec3> painted(n);
     for (size_t p = 0; p < n; ++p)
         if (owner[p] >= 0) painted[p] = paint(static_cast<size_t>(owner[p]), p);
     std::vector<uint8_t> taken(n, 0);
     std::vector<Region> added;
-    const size_t passes = std::min(options.errorMultiples.size(), options.caps.size());
-    for (size_t pass = 0; pass < passes; ++pass) {
-        const double limit =
-            std::min(options.caps[pass], options.errorMultiples[pass] * maxError) / 255;
+    for (double multiple : options.errorMultiples) {
+        const double limit = multiple * maxError / 255;
         std::vector<uint8_t> open(n, 0);
         for (size_t p = 0; p < n; ++p) {
-            if (owner[p] < 0 || taken[p]) continue;
+            if (!inside[p] || taken[p]) continue;
             const Vec3 d = pixelColour(image, p) - painted[p];
             open[p] = (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3 > limit;
         }

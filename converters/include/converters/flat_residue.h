@@ -18,9 +18,9 @@ namespace gm {
 
 struct ResidueOptions {
     // Passes from coarse to fine: pixels whose mean channel error (0–255 units) exceeds
-    // errorMultiples[i] times the error target, at most caps[i], form the pass's blobs.
+    // errorMultiples[i] times the error target form the pass's blobs. A coarser target leaves
+    // more to the regions: at E 40 only what differs by more than 120.
     std::vector<double> errorMultiples{8, 5, 3};
-    std::vector<double> caps{96, 64, 40};
     int minPixels = 15;  // smaller blobs (8-connected) are left
     // What a blob's flat shape adds to an SVG, bytes: the element, and its outline per border
     // pixel. Set above what the path text alone takes: a blob's traced, anti-aliased outline
@@ -33,7 +33,8 @@ struct ResidueOptions {
 // blob of pixels that `paint(k, p)` (region k's colour at pixel index p) misses, whose squared
 // error (0–255 units, mean over channels, summed) falls by at least errorPerByte per byte of its
 // shape when painted in its mean colour. A pixel belongs to the last region before firstInk
-// that holds it; pixels an ink line holds are left. Returns how many were added.
+// that holds it; pixels an ink line holds are left, and so are those beside another region's
+// (an anti-aliased border blends the two). Returns how many were added.
 size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
                          const std::function<Vec3(size_t, size_t)>& paint, double maxError,
                          double errorPerByte, const ResidueOptions& options = {});
