@@ -494,10 +494,6 @@ std::vector<Region> segmentRegions(const RgbaImage& image, const SegmentConvertO
 // no more than the error the conversion aims at.
 constexpr double kBackdropMergeShare = 1.0;
 
-// Without gradients, what a residue region must win back per byte of its shape (flat_residue.h);
-// with them, SegmentConvertOptions::gradientErrorPerByte, the same trade.
-constexpr double kResidueErrorPerByte = 1000;
-
 // Whether the cubic a, h1, h2, b has its handles at the thirds of its chord: a line.
 bool isStraight(Vec2 a, Vec2 h1, Vec2 h2, Vec2 b) {
     return norm(h1 - (a + (1.0 / 3) * (b - a))) < 1e-6 &&
@@ -706,7 +702,7 @@ private:
         // nothing of the colour along it.
         if (double(inside.size()) < options_.flat.minInteriorShare * double(shown.size())) return {};
         GradientFitOptions gradientOptions = options_.gradient;
-        gradientOptions.errorPerByte = options_.gradientErrorPerByte;
+        gradientOptions.errorPerByte = options_.flatErrorPerByte;
         return fitPayingGradient(image_, inside, flat_[k].col, gradientOptions);
     }
 
@@ -996,7 +992,7 @@ bool addResidue(const RgbaImage& image, std::vector<Region>& regions, size_t& fi
     };
     const size_t added =
         addResidueRegions(image, regions, firstInk, paint, options.convert.maxError,
-                          options.gradients ? options.gradientErrorPerByte : kResidueErrorPerByte,
+                          options.flatErrorPerByte,
                           options.residueOptions);
     segmentReport.residueRegions = static_cast<int>(added);
     return added > 0;

@@ -107,12 +107,13 @@ struct SegmentConvertOptions {
     bool strokes = true;
     StrokeOptions stroke;
     // A flat region whose colour runs across it is painted with a linear gradient
-    // (flat_gradient.h) when that pays: each byte must win back gradientErrorPerByte of
-    // squared error (0–255 units, the mean over channels, summed over pixels); and a shaded
-    // region that a gradient fits is a graded flat shape when that draws it no worse than its
-    // mesh. False: one colour per flat region, a mesh for every shaded one.
+    // (flat_gradient.h) when that pays, and a shaded region that a gradient fits is a graded
+    // flat shape when that draws it no worse than its mesh. False: one colour per flat region,
+    // a mesh for every shaded one.
     bool gradients = true;
-    double gradientErrorPerByte = 1000;
+    // What each byte a flat shape's extras add to an SVG (a gradient, a residue region) must
+    // win back: squared error, 0–255 units, the mean over channels, summed over pixels.
+    double flatErrorPerByte = 1000;
     GradientFitOptions gradient;
     // With flatOnly, what the regions' paint misses by far (a bubble on a plain background)
     // becomes regions of their own on top (flat_residue.h), where that pays as gradients do.

@@ -14,13 +14,13 @@
 namespace gm {
 
 struct GradientFitOptions {
-    int maxStops = 4;  // evenly spaced along the axis, 2 at least
+    int maxStops = 4;  // 2 at least
     // What a gradient adds to an SVG, bytes: the element with its axis, and each stop.
     double bytesPerGradient = 110;
     double bytesPerStop = 40;
     // The squared error (0–255 units, the mean over channels, summed over pixels) one byte must
     // win back: a gradient of K stops pays when the region's squared error falls by at least
-    // this times its bytes. convertSegmented sets it from the error target.
+    // this times its bytes (convertSegmented: SegmentConvertOptions::flatErrorPerByte).
     double errorPerByte = 1000;
     // Fewer pixels to fit: no gradient.
     int minPixels = 16;
