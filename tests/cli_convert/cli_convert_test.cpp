@@ -745,6 +745,27 @@ TEST_CASE("segment mode at --total-patches 0 draws every region flat: no mesh, n
     CHECK_THAT(slurp(d / "s.json"), Contains("\"flat_backdrop\": true"));
 }
 
+TEST_CASE("a flat trace paints shaded regions with gradients unless --no-gradients",
+          "[cli_convert][segment][gradient]") {
+    // HappyFish.jpg is drawn with gradients: its flat trace takes linearGradients, which the
+    // .gmb keeps and info names; --no-gradients gives one colour a region.
+    const fs::path d = tmpDir("gradients");
+    const std::string in = q(std::string(GRADMESH_SAMPLES) + "/HappyFish.jpg");
+    const std::string flat = " --segment --total-patches 0 --max-error 8";
+    checkSuccess(gradmesh("convert " + in + flat + " -o " + q(d / "g.svg") + " --report " +
+                              q(d / "g.json"),
+                          d));
+    checkSuccess(gradmesh("convert " + in + flat + " -o " + q(d / "g.gmb"), d));
+    checkSuccess(gradmesh("convert " + in + flat + " --no-gradients -o " + q(d / "p.svg"), d));
+    CHECK_THAT(slurp(d / "g.svg"), Contains("<linearGradient"));
+    CHECK_THAT(slurp(d / "g.json"), Contains("\"part\": \"gradient\""));
+    CHECK_THAT(slurp(d / "g.json"), Contains("\"residue_regions\": "));
+    CHECK_THAT(gradmesh("info " + q(d / "g.gmb"), d).out, Contains("linear gradient"));
+    CHECK_THAT(slurp(d / "p.svg"), !Contains("<linearGradient"));
+    checkFailure(gradmesh("convert " + in + " --no-gradients -o " + q(d / "x.svg"), d), 2,
+                 {"--no-gradients", "needs --segment"});
+}
+
 TEST_CASE("ink lines are flat shapes, except in a compact file under a patch budget",
           "[cli_convert][segment][ink]") {
     // A compact .gmb under --total-patches is about bytes: the ink's cubics would cost bytes
