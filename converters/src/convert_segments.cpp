@@ -690,14 +690,11 @@ private:
     LinearGradient flatGradient(size_t k) const {
         if (!graded_[k].stops.empty()) return graded_[k];
         if (!options_.gradients || k >= firstInk_) return {};
-        const std::vector<uint8_t>& mask = regions_[k].mask;
-        const size_t w = static_cast<size_t>(regions_[k].width);
+        const Region& own = regions_[k];
         const std::vector<size_t> shown = shownPixels(k);
         std::vector<size_t> inside;
         for (size_t p : shown)
-            if (p % w > 0 && p % w + 1 < w && p >= w && p + w < mask.size() && mask[p - 1] &&
-                mask[p + 1] && mask[p - w] && mask[p + w])
-                inside.push_back(p);
+            if (insideMask(own.mask, own.width, own.height, p)) inside.push_back(p);
         // A thin region (a rim, a frame) is nearly all border: its few inside pixels say
         // nothing of the colour along it.
         if (double(inside.size()) < options_.flat.minInteriorShare * double(shown.size())) return {};

@@ -6,6 +6,33 @@
 
 namespace gm {
 
+FitError paintedError(const RgbaImage& image, const std::vector<size_t>& at,
+                      const std::function<Vec3(size_t)>& paint, double outlierLimit,
+                      long* outliers) {
+    FitError e;
+    e.pixels = static_cast<long>(at.size());
+    if (outliers) *outliers = 0;
+    if (at.empty()) return e;
+    double absSum = 0, sqSum = 0;
+    for (size_t k : at) {
+        const Vec3 want = paint(k);
+        double pixelAbs = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double d = 255.0 * std::fabs(image.pixels[4 * k + c] - want[c]);
+            pixelAbs += d;
+            sqSum += d * d;
+            e.maxAbs = std::max(e.maxAbs, d);
+        }
+        absSum += pixelAbs;
+        if (outliers) *outliers += pixelAbs / 3 > outlierLimit;
+    }
+    const double n = 3.0 * double(at.size());
+    e.meanAbs = absSum / n;
+    e.rmse = std::sqrt(sqSum / n);
+    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
+    return e;
+}
+
 FitError compareOverMask(const RgbaImage& reference, const RgbaImage& test,
                          const std::vector<uint8_t>& mask) {
     FitError e;

@@ -7,16 +7,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "converters/regions.h"
+
 namespace gm {
 
 namespace {
 
 Vec2 pixelCentre(const RgbaImage& image, size_t k) {
     return {double(k % image.width) + 0.5, double(k / image.width) + 0.5};
-}
-
-Vec3 pixelColour(const RgbaImage& image, size_t k) {
-    return {image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
 }
 
 // The unit direction in which the pixels' colour changes most: the leading right singular
@@ -255,23 +253,8 @@ double gradientSquaredError(const RgbaImage& image, const std::vector<size_t>& a
 
 FitError gradientFitError(const RgbaImage& image, const std::vector<size_t>& at,
                           const LinearGradient& gradient) {
-    FitError e;
-    e.pixels = static_cast<long>(at.size());
-    if (at.empty()) return e;
-    double absSum = 0, sqSum = 0;
-    for (size_t k : at) {
-        const Vec3 d = 255.0 * (pixelColour(image, k) - gradient.colourAt(pixelCentre(image, k)));
-        for (int c = 0; c < 3; ++c) {
-            absSum += std::fabs(d[c]);
-            sqSum += d[c] * d[c];
-            e.maxAbs = std::max(e.maxAbs, std::fabs(d[c]));
-        }
-    }
-    const double n = 3.0 * double(at.size());
-    e.meanAbs = absSum / n;
-    e.rmse = std::sqrt(sqSum / n);
-    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
-    return e;
+    return paintedError(image, at,
+                        [&](size_t k) { return gradient.colourAt(pixelCentre(image, k)); });
 }
 
 LinearGradient fitPayingGradient(const RgbaImage& image, const std::vector<size_t>& at,
@@ -294,26 +277,16 @@ LinearGradient fitGradedRegion(const RgbaImage& image, const Region& own, double
     const int w = own.width, h = own.height;
     if (image.width != w || image.height != h) return {};
     std::vector<size_t> interior;
-    for (int y = 1; y + 1 < h; ++y)
-        for (int x = 1; x + 1 < w; ++x) {
-            const size_t k = static_cast<size_t>(y) * w + x;
-            if (own.mask[k] && own.mask[k - 1] && own.mask[k + 1] && own.mask[k - w] &&
-                own.mask[k + w])
-                interior.push_back(k);
-        }
+    for (size_t k = 0; k < own.mask.size(); ++k)
+        if (insideMask(own.mask, w, h, k)) interior.push_back(k);
     if (static_cast<int>(interior.size()) < options.minPixels) return {};
-    const double outlierLimit = options.outlierError * maxError;
-    for (LinearGradient& g : candidateGradients(image, interior, options.maxStops)) {
+    for (const LinearGradient& g : candidateGradients(image, interior, options.maxStops)) {
         if (g.stops.empty()) continue;
-        double absSum = 0;
         long outliers = 0;
-        for (size_t k : interior) {
-            const Vec3 d = 255.0 * (pixelColour(image, k) - g.colourAt(pixelCentre(image, k)));
-            const double pixelAbs = (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3;
-            absSum += pixelAbs;
-            outliers += pixelAbs > outlierLimit;
-        }
-        if (absSum / double(interior.size()) <= options.errorShare * maxError &&
+        const FitError e = paintedError(
+            image, interior, [&](size_t k) { return g.colourAt(pixelCentre(image, k)); },
+            options.outlierError * maxError, &outliers);
+        if (e.meanAbs <= options.errorShare * maxError &&
             double(outliers) <= options.outlierShare * double(interior.size()))
             return g;
     }

@@ -26,39 +26,7 @@ Vec3 meanColour(const RgbaImage& image, const std::vector<size_t>& at) {
     return mean;
 }
 
-// The FitError of colour `col` over the pixels `at`; `outliers` counts pixels whose mean channel
-// error exceeds `outlierLimit` (0–255 units).
-FitError flatError(const RgbaImage& image, const std::vector<size_t>& at, const Vec3& col,
-                   double outlierLimit, long& outliers) {
-    FitError e;
-    e.pixels = static_cast<long>(at.size());
-    outliers = 0;
-    if (at.empty()) return e;
-    double absSum = 0, sqSum = 0;
-    for (size_t k : at) {
-        double pixelAbs = 0;
-        for (int c = 0; c < 3; ++c) {
-            const double d = 255.0 * std::fabs(image.pixels[4 * k + c] - col[c]);
-            pixelAbs += d;
-            sqSum += d * d;
-            e.maxAbs = std::max(e.maxAbs, d);
-        }
-        absSum += pixelAbs;
-        outliers += pixelAbs / 3 > outlierLimit;
-    }
-    const double n = 3.0 * double(at.size());
-    e.meanAbs = absSum / n;
-    e.rmse = std::sqrt(sqSum / n);
-    e.psnr = e.rmse > 0 ? 20 * std::log10(255.0 / e.rmse) : INFINITY;
-    return e;
-}
-
 double dot3(const Vec3& a, const Vec3& b) { return a.r * b.r + a.g * b.g + a.b * b.b; }
-
-// The colour of pixel k (an index into the image), sRGB 0–1.
-Vec3 colourAt(const RgbaImage& image, size_t k) {
-    return Vec3{image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
-}
 
 // Sets the pixels of every hole of `mask` (a background component, 4-connected, that does not
 // reach the image border) that lies wholly in `under`.
@@ -129,7 +97,7 @@ Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int
                   int reach, const Vec3& col, bool eachSide) {
     const int w = image.width, h = image.height;
     constexpr double kClearContrast = 0.25, kAsLittle = 0.02;
-    const Vec3 c = colourAt(image, static_cast<size_t>(y) * w + x);
+    const Vec3 c = pixelColour(image, static_cast<size_t>(y) * w + x);
     Vec3 furthest = col;
     double furthestDistance = -1;
     std::vector<std::pair<double, Vec3>> candidates;  // residual, colour
@@ -139,7 +107,7 @@ Vec3 blendPartner(const RgbaImage& image, const std::vector<uint8_t>& grown, int
             if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
             const size_t q = static_cast<size_t>(yy) * w + xx;
             if (grown[q]) continue;
-            const Vec3 v = colourAt(image, q);
+            const Vec3 v = pixelColour(image, q);
             const double d = dot3(v - col, v - col);
             if (d > furthestDistance) furthestDistance = d, furthest = v;
             if (eachSide && d >= kClearContrast * kClearContrast)
@@ -185,7 +153,7 @@ Coverage shareCoverage(const RgbaImage& image, const std::vector<uint8_t>& own,
                 c.values[k] = own[k] ? 1.0f : 0.0f;
                 continue;
             }
-            const double share = dot3(colourAt(image, k) - other, axis) / len2;
+            const double share = dot3(pixelColour(image, k) - other, axis) / len2;
             c.values[k] = static_cast<float>(std::clamp(share, 0.0, 1.0));
         }
     return c;
@@ -426,7 +394,7 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
                 const int xx = x + dx, yy = y + dy;
                 if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
                 const size_t q = static_cast<size_t>(yy) * w + xx;
-                if (!own.mask[q]) visit(colourAt(image, q));
+                if (!own.mask[q]) visit(pixelColour(image, q));
             }
     };
     Vec3 around;
@@ -435,7 +403,7 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
     if (aroundCount > 0) around = (1.0 / double(aroundCount)) * around;
     std::vector<std::pair<double, size_t>> contrast;
     for (size_t k : all) {
-        const Vec3 d = colourAt(image, k) - around;
+        const Vec3 d = pixelColour(image, k) - around;
         contrast.push_back({-dot3(d, d), k});
     }
     const size_t purest = std::max<size_t>(1, all.size() / 4);
@@ -448,14 +416,14 @@ FlatFit fitThinFlatColour(const RgbaImage& image, const Region& own, const std::
     double sum = 0;
     long outliers = 0;
     for (size_t k : all) {
-        const Vec3 c = colourAt(image, k);
+        const Vec3 c = pixelColour(image, k);
         double best = blendResidual(c, fit.col, fit.col);
         outside(k, [&](const Vec3& v) { best = std::min(best, blendResidual(c, fit.col, v)); });
         sum += 255 * best;
         outliers += 255 * best > options.outlierError * maxError;
     }
-    long ignored = 0;
-    fit.all = flatError(image, all, fit.col, INFINITY, ignored);
+    const auto flat = [&](size_t) { return fit.col; };
+    fit.all = paintedError(image, all, flat);
     fit.interior = fit.all;
     fit.interior.meanAbs = sum / double(all.size());
     fit.flat = fit.interior.meanAbs <= errorShare * maxError &&
@@ -483,9 +451,7 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
             const size_t k = static_cast<size_t>(y) * w + x;
             if (!own.mask[k]) continue;
             all.push_back(k);
-            if (x > 0 && y > 0 && x + 1 < w && y + 1 < h && own.mask[k - 1] && own.mask[k + 1] &&
-                own.mask[k - w] && own.mask[k + w])
-                interior.push_back(k);
+            if (insideMask(own.mask, w, h, k)) interior.push_back(k);
         }
     if (all.empty()) return fit;
     // A thin region (a line, a frame) has little interior, and what it has says nothing of it.
@@ -503,9 +469,10 @@ FlatFit fitFlatColour(const RgbaImage& image, const Region& own, double maxError
         return fitThinFlatColour(image, own, all, maxError, options.errorShare,
                                  options.outlierShare, options);
     fit.col = meanColour(image, interior);
-    long outliers = 0, ignored = 0;
-    fit.interior = flatError(image, interior, fit.col, options.outlierError * maxError, outliers);
-    fit.all = flatError(image, all, fit.col, INFINITY, ignored);
+    long outliers = 0;
+    const auto flat = [&](size_t) { return fit.col; };
+    fit.interior = paintedError(image, interior, flat, options.outlierError * maxError, &outliers);
+    fit.all = paintedError(image, all, flat);
     fit.flat = fit.interior.meanAbs <= options.errorShare * maxError &&
                double(outliers) <= options.outlierShare * double(fit.interior.pixels);
     return fit;

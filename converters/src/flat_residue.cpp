@@ -4,13 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "converters/colors.h"
+
 namespace gm {
 
 namespace {
-
-Vec3 pixelColour(const RgbaImage& image, size_t p) {
-    return {image.pixels[4 * p], image.pixels[4 * p + 1], image.pixels[4 * p + 2]};
-}
 
 // Squared error of colour c against pixel colour v, 0–255 units, mean over channels.
 double squaredError(const Vec3& v, const Vec3& c) {

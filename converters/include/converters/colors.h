@@ -15,6 +15,8 @@
 // (what every writer outputs), over the region's pixels (Region::mask).
 #pragma once
 
+#include <cmath>
+#include <functional>
 #include <vector>
 
 #include "converters/region.h"
@@ -58,6 +60,18 @@ struct FitError {
     double uncovered = 0;  // fraction of region pixels no patch paints (excluded from the above)
     long pixels = 0;       // region pixels
 };
+
+// The colour of pixel k (an index into the image), sRGB 0–1.
+inline Vec3 pixelColour(const RgbaImage& image, size_t k) {
+    return {image.pixels[4 * k], image.pixels[4 * k + 1], image.pixels[4 * k + 2]};
+}
+
+// The figures (E, RMSE, PSNR, max) of painting pixels `at` (indices into the image) in
+// `paint(k)`; `outliers`, when given, counts the pixels whose mean channel error exceeds
+// `outlierLimit` (0–255 units).
+FitError paintedError(const RgbaImage& image, const std::vector<size_t>& at,
+                      const std::function<Vec3(size_t)>& paint, double outlierLimit = INFINITY,
+                      long* outliers = nullptr);
 
 // The report's figures of `test` against `reference` over the pixels where mask (width*height,
 // row-major) is non-zero: pixels whose test alpha is under 0.5 count as uncovered and are left

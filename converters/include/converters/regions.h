@@ -79,6 +79,15 @@ struct PixelBox {
 };
 PixelBox maskBounds(const std::vector<uint8_t>& mask, int w, int h);
 
+// Whether pixel k of a w × h mask and its four neighbours are all in it (a pixel on the image's
+// border never is): a region's inside, away from its anti-aliased border.
+inline bool insideMask(const std::vector<uint8_t>& mask, int w, int h, size_t k) {
+    const size_t width = static_cast<size_t>(w);
+    const size_t x = k % width, y = k / width;
+    return x > 0 && y > 0 && x + 1 < width && y + 1 < static_cast<size_t>(h) && mask[k] &&
+           mask[k - 1] && mask[k + 1] && mask[k - width] && mask[k + width];
+}
+
 // Per pixel, the index of the first of `regions` (all of one size) whose mask holds it: the
 // one drawn there first, when they are drawn in order; -1 where none does.
 std::vector<int> firstRegionAt(const std::vector<Region>& regions);
