@@ -116,6 +116,33 @@ TEST_CASE("nearly straight edges inside a mesh are written as lines, its boundar
     CHECK(corner <= 0.005 + 1e-9);
 }
 
+TEST_CASE("a patch's tensor points are written where leaving them out would move its colours",
+          "[svg]") {
+    // Strongly curved patches: drawn with the Coons interior a reader assumes, their insides
+    // move by pixels. Where their colours change steeply, that shows; where they are nearly
+    // flat, it does not, and the attribute is left out.
+    Document steep;
+    steep.width = steep.height = 200;
+    GradientMesh mesh(3, 3);
+    for (int j = 0; j <= 3; ++j)
+        for (int i = 0; i <= 3; ++i) {
+            Node& n = mesh.node(i, j);
+            n.pos = {20.0 + 50 * i, 20.0 + 50 * j};
+            n.posU = {50, j % 2 ? 45.0 : -45.0};  // tangents that swing from row to row
+            n.posV = {i % 2 ? 45.0 : -45.0, 50};
+            n.col = i % 2 ? Vec3{0.9, 0.9, 0.9} : Vec3{0.1, 0.2, 0.1};  // a stripe a column
+        }
+    steep.meshes.push_back(mesh);
+    Document gentle = steep;
+    for (Node& n : gentle.meshes[0].nodes) n.col = 0.5 * Vec3{1, 1, 1} + 0.005 * n.col;
+    const std::string steepSvg = encodeSvg(steep, editable());
+    const std::string gentleSvg = encodeSvg(gentle, editable());
+    CHECK(countOf(steepSvg, " tensor=\"") >= 4);
+    CHECK(countOf(gentleSvg, " tensor=\"") == 0);
+    // The exact syntax keeps every interior that differs at its precision.
+    CHECK(countOf(encodeSvg(gentle, exactColors()), " tensor=\"") > 0);
+}
+
 TEST_CASE("svg numbers keep 1/100 px without accumulating along a row", "[svg]") {
     // A long row of patches far from the origin: relative offsets are written against the
     // reader's reconstructed corners, so the error stays at the rounding step.

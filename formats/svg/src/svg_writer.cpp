@@ -19,6 +19,7 @@
 #include "svg_number.h"
 #include "svg_shapes.h"
 #include "svg_script.h"
+#include "svg_tensor_effect.h"
 #include "svg_patch_grid.h"
 
 namespace gm {
@@ -125,6 +126,10 @@ SvgPatchGrid refinedGrid(const std::vector<BezierPatch>& base, int C, int R,
 // of a patch, not its edges or colours, so leaving the small ones out is invisible in
 // Inkscape, and our reader does not keep them.
 constexpr double kTensorTolerance = 1.0;
+// ... and when, drawn with the Coons interior, the patch's colours would move by more than
+// this (0–1; tensorColorEffect), or the Coons patch folds. Large patches of a whole image
+// mostly carry gentle colour, where a moved inside shows no difference.
+constexpr double kTensorColorTolerance = 4.0 / 255;
 
 // How numbers are written: decimals per coordinate, and whether separators are left out where
 // the grammar allows it (before a minus sign, and after a path command letter).
@@ -242,16 +247,6 @@ Vec2 appendStop(std::string& out, Vec2 start, Vec2 h1, Vec2 h2, Vec2 end, bool c
     return reached;
 }
 
-// The interior point Inkscape assumes when a patch has no `tensor` attribute (the Coons patch
-// written as a tensor patch, PDF reference §4.6.3), for the corner q[ix(0)][iy(0)].
-Vec2 coonsInterior(const Vec2 (&q)[4][4], bool mirrorU, bool mirrorV) {
-    auto at = [&](int a, int b) -> Vec2 {
-        return q[mirrorU ? 3 - a : a][mirrorV ? 3 - b : b];
-    };
-    return (1.0 / 9) * (-4.0 * at(0, 0) + 6.0 * (at(1, 0) + at(0, 1)) -
-                        2.0 * (at(3, 0) + at(0, 3)) + 3.0 * (at(1, 3) + at(3, 1)) - at(3, 3));
-}
-
 // Writes one meshgradient patch by patch. Corners are tracked as the reader reconstructs them
 // (each edge written relative to where the previous one ended, at the precision written).
 class MeshGradientWriter {
@@ -337,11 +332,27 @@ private:
         out_ += syntax_.compact ? "</meshpatch>" : "</meshpatch>\n";
     }
 
+    // Whether the patch drawn with interior points `t` differs from the Coons patch of its
+    // edges `q` (as read back) by more than the tolerances: positions, and in the compact
+    // syntax also colours.
+    bool tensorShows(Vec2 (&q)[4][4], const std::array<Vec2, 4>& t, int c, int r) const {
+        const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
+                               coonsInterior(q, true, true), coonsInterior(q, false, true)};
+        const Vec2 base[4] = {q[0][0], q[3][0], q[3][3], q[0][3]};
+        bool differs = false;
+        for (int k = 0; k < 4; ++k)
+            if (!nearlyEqual(printed(t[k] - base[k], dec_), coons[k] - base[k], tensorTol_))
+                differs = true;
+        if (!differs || !syntax_.compact) return differs;
+        q[1][1] = t[0], q[2][1] = t[1], q[2][2] = t[2], q[1][2] = t[3];
+        const Vec3 colors[4] = {g_.C(c, r), g_.C(c + 1, r), g_.C(c + 1, r + 1), g_.C(c, r + 1)};
+        return tensorColorEffect(q, colors) > kTensorColorTolerance;
+    }
+
     // The patch's tensor attribute, unless it would change nothing: the reconstructed control
     // net's Coons interior (what Inkscape assumes) compared with the interior written.
     void tensor(int c, int r) {
         const SvgPatchGrid& g = g_;
-        const int dec = dec_;
         Vec2 q[4][4];
         const Vec2 c00 = R(c, r), c30 = R(c + 1, r), c33 = R(c + 1, r + 1), c03 = R(c, r + 1);
         q[0][0] = c00;
@@ -363,14 +374,8 @@ private:
         asRead(c33, g.H(c, r + 1)[1], g.H(c, r + 1)[0], c03, hLine(c, r + 1), q[2][3], q[1][3]);
         asRead(c03, g.V(c, r)[1], g.V(c, r)[0], c00, vLine(c, r), q[0][2], q[0][1]);
         const auto& t = g.tensor[g.patchIndex(c, r)];
-        const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
-                               coonsInterior(q, true, true), coonsInterior(q, false, true)};
         const Vec2 base[4] = {c00, c30, c33, c03};
-        bool differs = false;
-        for (int k = 0; k < 4; ++k)
-            if (!nearlyEqual(printed(t[k] - base[k], dec), coons[k] - base[k], tensorTol_))
-                differs = true;
-        if (!differs) return;
+        if (!tensorShows(q, t, c, r)) return;
         out_ += " tensor=\"";
         const size_t at = out_.size();
         appendPoints(out_, {t[0] - base[0], t[1] - base[1], t[2] - base[2], t[3] - base[3]},
