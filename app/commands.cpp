@@ -116,6 +116,8 @@ const char* const kConvertHelp =
     "                          as strokes along their centrelines\n"
     "  --no-gradients          with --segment: flat regions in one colour each, never a\n"
     "                          linear gradient\n"
+    "  --no-residue            with --segment: no flat shapes on top for the details the\n"
+    "                          regions miss by far (specks, highlights)\n"
     "  --threads N             regions converted at once (default: all cores)\n"
     GRADMESH_COMMON_OPTIONS;
 

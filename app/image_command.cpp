@@ -38,7 +38,7 @@ const std::set<std::string> kImageValuedOptions = {
     "--min-area", "--min-hole", "--samples", "--segments", "--min-region", "--threads",
     "--total-patches"};
 const std::set<std::string> kImageFlagOptions = {"--segment", "--no-strokes",
-                                                    "--no-gradients"};
+                                                    "--no-gradients", "--no-residue"};
 
 namespace {
 
@@ -229,10 +229,11 @@ ImageJob parseImageJob(const std::map<std::string, std::string>& values) {
     so.flatOnly = values.count("--total-patches") && so.totalPatches == 0;
     so.strokes = values.count("--no-strokes") == 0;
     so.gradients = values.count("--no-gradients") == 0;
+    so.residue = values.count("--no-residue") == 0;
     co.threads = so.threads;
     if (!job.segment)
         for (const char* o : {"--segments", "--min-region", "--total-patches", "--no-strokes",
-                              "--no-gradients"})
+                              "--no-gradients", "--no-residue"})
             if (values.count(o)) throw std::invalid_argument(std::string(o) + " needs --segment");
     if (job.segment && values.count("--mask"))
         throw std::invalid_argument("--segment converts the whole image; it takes no --mask");
@@ -407,12 +408,13 @@ ImageFigures convertImageToTargets(const std::string& in, const std::vector<Imag
     for (const ImageTarget& t : targets) {
         checkPlaces(in, t.path, job);
         // A compact file under a whole-image patch budget is about bytes, and the cubics of
-        // ink lines and of shaded regions drawn flat cost bytes outside the budget
-        // (docs/design.md §5).
+        // ink lines, of shaded regions drawn flat and of residue shapes cost bytes outside the
+        // budget (docs/design.md §5).
         if (job.segmentOptions.totalPatches > 0 && writeOptions.compact &&
             t.writer->name() == "gmb") {
             job.segmentOptions.segment.inkLines = false;
             job.segmentOptions.flatRungs = false;
+            job.segmentOptions.residue = false;
         }
     }
     // Every output of the run is written to its temporary and renamed into place together at

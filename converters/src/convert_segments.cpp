@@ -995,6 +995,54 @@ bool addResidue(const RgbaImage& image, std::vector<Region>& regions, size_t& fi
     return added > 0;
 }
 
+
+// What a shaded document's SVG costs, roughly, in bytes: a patch written in the compact syntax
+// with its share of the meshes' outline paths, and a flat shape's element and segments.
+double estimatedSvgBytes(const Document& doc) {
+    constexpr double kPerPatch = 120, kPerShape = 40, kPerSegment = 12;
+    double bytes = 0;
+    for (const GradientMesh& mesh : doc.meshes) bytes += kPerPatch * mesh.patchCount();
+    for (const FlatShape& shape : doc.shapes) {
+        bytes += kPerShape;
+        for (const auto& subpath : shape.subpaths) bytes += kPerSegment * double(subpath.size()) / 3;
+    }
+    return bytes;
+}
+
+// What the drawn document misses by far (a highlight, a speck inside a mesh), as flat shapes
+// on top of everything (flat_residue.h). A shape must win back residuePriceOverAverage times
+// the squared error the document wins back per byte on average: on a rate-distortion curve
+// of error inversely proportional to bytes, as the whole-image ones roughly are, the average
+// is also what the last bytes bought.
+void addResidueShapes(Document& doc, const RgbaImage& image, const std::vector<Region>& regions,
+                      size_t firstInk, const SegmentConvertOptions& options,
+                      SegmentConvertReport& segmentReport) {
+    RenderOptions drawOptions;
+    drawOptions.threads = options.convert.threads;
+    const RenderResult drawn = renderDocument(doc, drawOptions);
+    std::vector<Vec3> painted(static_cast<size_t>(image.width) * image.height);
+    double squaredError = 0;
+    for (size_t p = 0; p < painted.size(); ++p) {
+        painted[p] = pixelColour(drawn.image, p);
+        const Vec3 d = 255.0 * (pixelColour(image, p) - painted[p]);
+        squaredError += (d.r * d.r + d.g * d.g + d.b * d.b) / 3;
+    }
+    const double price = std::max(options.residueMinErrorPerByte,
+                                  options.residuePriceOverAverage * squaredError /
+                                      std::max(1.0, estimatedSvgBytes(doc)));
+    FlatOptions flat = options.flat;
+    flat.curveTolerance *= std::max(1.0, options.convert.maxError / flat.toleranceError);
+    std::vector<FlatShape> shapes =
+        residueShapes(image, regions, firstInk, std::move(painted), options.convert.maxError,
+                      price, flat, options.meshResidueOptions);
+    snapToGrid(shapes, flat.curveTolerance, flat);
+    for (FlatShape& shape : shapes) {
+        shape.layer = doc.meshes.size();
+        doc.shapes.push_back(std::move(shape));
+    }
+    segmentReport.residueRegions = static_cast<int>(shapes.size());
+}
+
 }  // namespace
 
 Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& options,
@@ -1066,6 +1114,10 @@ Document convertSegmented(const RgbaImage& image, const SegmentConvertOptions& o
 
     reportProgress(options.convert, "assemble");
     Document doc = assembleDocument(image, regions, outcomes, used, segmentReport);
+    if (!allFlat && used.residue && used.flatShapes) {
+        reportProgress(options.convert, "residue");
+        addResidueShapes(doc, image, regions, firstInk, used, segmentReport);
+    }
     reportProgress(options.convert, "measure");
     t0 = Clock::now();
     measureSegmented(doc, image, seg.labels, segmentReport);

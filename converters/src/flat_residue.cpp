@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "converters/colors.h"
+#include "converters/flat_regions.h"
+#include "meshcore/error.h"
 
 namespace gm {
 
@@ -53,19 +55,16 @@ Region regionOf(const std::vector<size_t>& blob, int w, int h) {
     return r;
 }
 
-}  // namespace
-
-size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
-                         const std::function<Vec3(size_t, size_t)>& paint, double maxError,
-                         double errorPerByte, const ResidueOptions& options) {
-    const int w = image.width, h = image.height;
+// Pixels that belong to a region before firstInk, as do their 8 neighbours: a pixel beside
+// another region's blends with it where the border is anti-aliased, and the regions' outlines
+// draw that, no blob. Also each pixel's region (-1: none, or an ink line).
+std::vector<uint8_t> insideOneRegion(const std::vector<Region>& regions, size_t firstInk, int w,
+                                     int h, std::vector<int>& owner) {
     const size_t n = static_cast<size_t>(w) * h;
-    std::vector<int> owner(n, -1);
+    owner.assign(n, -1);
     for (size_t k = 0; k < regions.size(); ++k)
         for (size_t p = 0; p < n; ++p)
             if (regions[k].mask[p]) owner[p] = k < firstInk ? static_cast<int>(k) : -1;
-    // A pixel beside another region's blends with it where the border is anti-aliased: the
-    // regions' outlines draw that, no blob.
     std::vector<uint8_t> inside(n, 0);
     for (int y = 1; y + 1 < h; ++y)
         for (int x = 1; x + 1 < w; ++x) {
@@ -76,11 +75,34 @@ size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, s
                     same = owner[p + static_cast<size_t>(dy * w + dx)] == owner[p];
             inside[p] = same;
         }
-    std::vector<Vec3> painted(n);
-    for (size_t p = 0; p < n; ++p)
-        if (owner[p] >= 0) painted[p] = paint(static_cast<size_t>(owner[p]), p);
-    std::vector<uint8_t> taken(n, 0);
-    std::vector<Region> added;
+    return inside;
+}
+
+// E of `painted` against the image: the mean channel error, 0–255 units.
+double drawnError(const RgbaImage& image, const std::vector<Vec3>& painted) {
+    double sum = 0;
+    for (size_t p = 0; p < painted.size(); ++p) {
+        const Vec3 d = 255.0 * (pixelColour(image, p) - painted[p]);
+        sum += (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3;
+    }
+    return painted.empty() ? 0 : sum / double(painted.size());
+}
+
+struct Blob {
+    std::vector<size_t> pixels;
+    Vec3 mean;
+};
+
+// The blobs among `inside` pixels that `painted` misses by a pass's limit, whose squared error
+// falls by errorPerByte per byte of their shape when painted in their mean colour, from the
+// coarsest pass to the finest; `painted` takes each blob's colour as it is kept.
+std::vector<Blob> missedBlobs(const RgbaImage& image, const std::vector<uint8_t>& inside,
+                              std::vector<Vec3>& painted, double maxError, double errorPerByte,
+                              const ResidueOptions& options) {
+    const int w = image.width, h = image.height;
+    const size_t n = static_cast<size_t>(w) * h;
+    std::vector<uint8_t> taken(n, 0), in(n, 0);
+    std::vector<Blob> kept;
     for (double multiple : options.errorMultiples) {
         const double limit = multiple * maxError / 255;
         std::vector<uint8_t> open(n, 0);
@@ -89,32 +111,70 @@ size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, s
             const Vec3 d = pixelColour(image, p) - painted[p];
             open[p] = (std::fabs(d.r) + std::fabs(d.g) + std::fabs(d.b)) / 3 > limit;
         }
-        std::vector<uint8_t> in(n, 0);
         for (size_t seed = 0; seed < n; ++seed) {
             if (!open[seed]) continue;
-            const std::vector<size_t> blob = takeBlob(open, seed, w, h);
-            if (static_cast<int>(blob.size()) < options.minPixels) continue;
-            Vec3 mean;
-            for (size_t p : blob) mean = mean + pixelColour(image, p);
-            mean = (1.0 / double(blob.size())) * mean;
+            Blob blob{takeBlob(open, seed, w, h), {}};
+            if (static_cast<int>(blob.pixels.size()) < options.minPixels) continue;
+            for (size_t p : blob.pixels) blob.mean = blob.mean + pixelColour(image, p);
+            blob.mean = (1.0 / double(blob.pixels.size())) * blob.mean;
+            for (size_t p : blob.pixels) in[p] = 1;
             double gain = 0;
-            for (size_t p : blob) {
+            for (size_t p : blob.pixels) {
                 const Vec3 v = pixelColour(image, p);
-                gain += squaredError(v, painted[p]) - squaredError(v, mean);
+                gain += squaredError(v, painted[p]) - squaredError(v, blob.mean);
             }
-            for (size_t p : blob) in[p] = 1;
-            const double bytes = options.bytesPerBlob +
-                                 options.bytesPerBorderPixel * double(borderPixels(blob, in, w, h));
-            for (size_t p : blob) in[p] = 0;
+            const double bytes =
+                options.bytesPerBlob +
+                options.bytesPerBorderPixel * double(borderPixels(blob.pixels, in, w, h));
+            for (size_t p : blob.pixels) in[p] = 0;
             if (gain < errorPerByte * bytes) continue;
-            for (size_t p : blob) taken[p] = 1, painted[p] = mean;
-            added.push_back(regionOf(blob, w, h));
+            for (size_t p : blob.pixels) taken[p] = 1, painted[p] = blob.mean;
+            kept.push_back(std::move(blob));
         }
     }
+    return kept;
+}
+
+}  // namespace
+
+size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
+                         const std::function<Vec3(size_t, size_t)>& paint, double maxError,
+                         double errorPerByte, const ResidueOptions& options) {
+    const int w = image.width, h = image.height;
+    const size_t n = static_cast<size_t>(w) * h;
+    std::vector<int> owner;
+    const std::vector<uint8_t> inside = insideOneRegion(regions, firstInk, w, h, owner);
+    std::vector<Vec3> painted(n);
+    for (size_t p = 0; p < n; ++p)
+        if (owner[p] >= 0) painted[p] = paint(static_cast<size_t>(owner[p]), p);
+    std::vector<Region> added;
+    for (const Blob& blob : missedBlobs(image, inside, painted, maxError, errorPerByte, options))
+        added.push_back(regionOf(blob.pixels, w, h));
     regions.insert(regions.begin() + static_cast<std::ptrdiff_t>(firstInk), added.begin(),
                    added.end());
     firstInk += added.size();
     return added.size();
+}
+
+std::vector<FlatShape> residueShapes(const RgbaImage& image, const std::vector<Region>& regions,
+                                     size_t firstInk, std::vector<Vec3> painted,
+                                     double maxError, double errorPerByte,
+                                     const FlatOptions& flat, const ResidueOptions& options) {
+    const int w = image.width, h = image.height;
+    std::vector<int> owner;
+    const std::vector<uint8_t> inside = insideOneRegion(regions, firstInk, w, h, owner);
+    const double base = std::max(maxError, drawnError(image, painted));
+    const std::vector<uint8_t> nothingOnTop(static_cast<size_t>(w) * h, 0);
+    std::vector<FlatShape> shapes;
+    for (const Blob& blob : missedBlobs(image, inside, painted, base, errorPerByte, options)) {
+        try {
+            shapes.push_back(traceFlatShape(image, regionOf(blob.pixels, w, h), blob.mean, 0,
+                                            nothingOnTop, flat));
+        } catch (const Error&) {
+            // A blob whose traced coverage stays below one half draws nothing: left out.
+        }
+    }
+    return shapes;
 }
 
 }  // namespace gm

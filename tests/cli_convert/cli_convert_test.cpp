@@ -766,6 +766,25 @@ TEST_CASE("a flat trace paints shaded regions with gradients unless --no-gradien
                  {"--no-gradients", "needs --segment"});
 }
 
+TEST_CASE("the meshes' missed specks are flat shapes on top, unless --no-residue",
+          "[cli_convert][segment][residue]") {
+    // smarties.png at the default: its sweets' highlights, which the meshes smooth away.
+    const fs::path d = tmpDir("residue");
+    const std::string in = q(std::string(GRADMESH_SAMPLES) + "/smarties.png");
+    checkSuccess(gradmesh("convert " + in + " --segment -o " + q(d / "r.gmb") + " --report " +
+                              q(d / "r.json"),
+                          d));
+    checkSuccess(gradmesh("convert " + in + " --segment --no-residue -o " + q(d / "n.gmb") +
+                              " --report " + q(d / "n.json"),
+                          d));
+    CHECK_THAT(slurp(d / "r.json"), !Contains("\"residue_regions\": 0"));
+    CHECK_THAT(slurp(d / "n.json"), Contains("\"residue_regions\": 0"));
+    CHECK_THAT(gradmesh("info " + q(d / "r.gmb"), d).out, Contains("flat shapes:"));
+    CHECK_THAT(gradmesh("info " + q(d / "n.gmb"), d).out, !Contains("flat shapes:"));
+    checkFailure(gradmesh("convert " + in + " --no-residue -o " + q(d / "x.svg"), d), 2,
+                 {"--no-residue", "needs --segment"});
+}
+
 TEST_CASE("ink lines are flat shapes, except in a compact file under a patch budget",
           "[cli_convert][segment][ink]") {
     // A compact .gmb under --total-patches is about bytes: the ink's cubics would cost bytes

@@ -119,6 +119,14 @@ struct SegmentConvertOptions {
     // becomes regions of their own on top (flat_residue.h), where that pays as gradients do.
     bool residue = true;
     ResidueOptions residueOptions;
+    // With meshes, what the drawn document misses by far becomes flat shapes on top of it
+    // (residueShapes), blobs from 6 pixels on, where each wins back per byte the larger of
+    // residueMinErrorPerByte and residuePriceOverAverage times what the document wins back per
+    // byte on average. Below the floor, what our render promises is not what viewers draw
+    // (their meshes differ from ours by more than the small blobs' gain).
+    ResidueOptions meshResidueOptions{{8, 5, 3}, 6};
+    double residuePriceOverAverage = 2;
+    double residueMinErrorPerByte = 100;
 };
 
 struct SegmentConvertReport {
@@ -138,8 +146,8 @@ struct SegmentConvertReport {
     bool flatBackdrop = false;   // every region flat: a flat rectangle instead of the base mesh
     int mergedIntoBackdrop = 0;  // flatOnly: regions of nearly the backdrop's colour that joined
                                  // it (flat_backdrop.h)
-    int residueRegions = 0;      // flatOnly: blobs the regions missed, drawn on top of them
-                                 // (flat_residue.h)
+    int residueRegions = 0;      // blobs the regions (flatOnly) or the drawn document missed,
+                                 // drawn on top of them (flat_residue.h)
     int liftedThin = 0;          // thin flat regions drawn after the others (thin_on_top.h)
     int mergedAcrossThin = 0;    // ... and regions of one colour they parted, merged
     double regionUncovered = 0;  // fraction of pixels no region mesh paints (the base does)

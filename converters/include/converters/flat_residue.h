@@ -10,6 +10,7 @@
 #include <functional>
 #include <vector>
 
+#include "converters/flat_regions.h"
 #include "converters/region.h"
 #include "meshcore/gradient_mesh.h"
 #include "meshcore/image.h"
@@ -38,5 +39,17 @@ struct ResidueOptions {
 size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, size_t& firstInk,
                          const std::function<Vec3(size_t, size_t)>& paint, double maxError,
                          double errorPerByte, const ResidueOptions& options = {});
+
+// Over regions already drawn (meshes and flat shapes alike; `painted`: the drawing's colour at
+// each pixel, canvas-sized), the blobs it misses, chosen as addResidueRegions chooses them, as
+// flat shapes of their mean colour to draw on top of everything: a highlight or a speck that a
+// mesh would need many patches for. The passes' limits are multiples of the larger of
+// `maxError` and the drawing's own E (a mesh at a small budget misses by more than its
+// target everywhere; its blobs are what it misses by far more than that). Outlines are traced
+// as any flat shape's (traceFlatShape with `flat`); a blob that traces to nothing is left.
+std::vector<FlatShape> residueShapes(const RgbaImage& image, const std::vector<Region>& regions,
+                                     size_t firstInk, std::vector<Vec3> painted,
+                                     double maxError, double errorPerByte,
+                                     const FlatOptions& flat, const ResidueOptions& options = {});
 
 }  // namespace gm
