@@ -34,8 +34,9 @@ def convert(source, mask=None, **options):
     mask: the object mask, a file or an H x W array (white / non-zero = object); else the alpha
       channel, else foreground extraction (as `gradmesh convert`).
     options: max_error, max_patches, colors ("bicubic", "hermite", "sampled"), segment,
-      segments, min_region, total_patches, min_area, min_hole, samples, threads, max_pixels,
-      max_document_patches.
+      segments, min_region, total_patches (0: a flat trace), strokes, gradients, residue (each
+      True unless set False, with segment=True), min_area, min_hole, samples, threads,
+      max_pixels, max_document_patches.
     """
     return _convert(_path_or_array(source), _path_or_array(mask), options)
 

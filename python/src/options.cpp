@@ -111,7 +111,7 @@ ImageJob parseImageJob(const py::dict& options, bool hasMask) {
     const OptionReader o(options, "convert",
                          {"max_error", "max_patches", "colors", "max_pixels", "min_area", "min_hole",
                           "samples", "segment", "segments", "min_region", "threads", "total_patches",
-                          "max_document_patches"});
+                          "strokes", "gradients", "residue", "max_document_patches"});
     ImageJob job;
     gm::ConvertOptions& co = job.convert;
     job.segment = o.flag("segment");
@@ -131,11 +131,17 @@ ImageJob parseImageJob(const py::dict& options, bool hasMask) {
     so.segment.segments = static_cast<int>(o.number("segments", 0, 1, 100000));
     so.segment.minRegion = static_cast<int>(o.number("min_region", 0, 1, 1e9));
     so.threads = static_cast<int>(o.number("threads", 0, 1, 1024));
-    so.totalPatches = static_cast<int>(o.number("total_patches", 0, 1, 1e8));
+    so.totalPatches = static_cast<int>(o.number("total_patches", 0, 0, 1e8));
+    so.flatOnly = o.has("total_patches") && so.totalPatches == 0;
+    // Each on unless set False (the command line's --no-strokes, --no-gradients, --no-residue).
+    so.strokes = !o.has("strokes") || o.flag("strokes");
+    so.gradients = !o.has("gradients") || o.flag("gradients");
+    so.residue = !o.has("residue") || o.flag("residue");
     co.threads = so.threads;
     job.maxDocumentPatches = o.wholeNumber("max_document_patches", job.maxDocumentPatches, 1, 1e15);
     if (!job.segment)
-        for (const char* key : {"segments", "min_region", "total_patches"})
+        for (const char* key :
+             {"segments", "min_region", "total_patches", "strokes", "gradients", "residue"})
             if (o.has(key)) throw py::value_error(std::string(key) + " needs segment=True");
     if (job.segment && hasMask)
         throw py::value_error("segment=True converts the whole image; it takes no mask");

@@ -105,3 +105,20 @@ def test_segment_is_the_cli_file(tmp_path):
     doc = gradmesh.convert(image, segment=True, segments=6, max_patches=40, threads=2)
     assert doc.encode(".gmb") == expected
     assert doc.meshes > 1
+
+
+def test_segment_switches_are_the_cli_flags(tmp_path):
+    # A flat trace without gradients or strokes, and a mesh conversion without residue shapes:
+    # the same files as --total-patches 0 --no-gradients --no-strokes and --no-residue.
+    image = SAMPLES / "HappyFish.jpg"
+    flat = ["--segment", "--total-patches", "0", "--max-error", "8", "--threads", "2"]
+    expected = cli_file(tmp_path, "flat.gmb", image, *flat, "--no-gradients", "--no-strokes")
+    doc = gradmesh.convert(image, segment=True, total_patches=0, max_error=8, threads=2,
+                           gradients=False, strokes=False)
+    assert doc.encode(".gmb") == expected
+    assert doc.patches == 0
+    meshes = ["--segment", "--segments", "6", "--max-patches", "40", "--threads", "2"]
+    expected = cli_file(tmp_path, "bare.gmb", image, *meshes, "--no-residue")
+    doc = gradmesh.convert(image, segment=True, segments=6, max_patches=40, threads=2,
+                           residue=False)
+    assert doc.encode(".gmb") == expected

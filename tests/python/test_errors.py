@@ -84,6 +84,8 @@ def test_unknown_options_are_type_errors(apple):
     ({"colors": "rgb"}, "colors expects bicubic, hermite or sampled, got 'rgb'"),
     ({"segment": 1}, "segment expects True or False, got 1"),
     ({"segments": 5}, "segments needs segment=True"),
+    ({"residue": False}, "residue needs segment=True"),
+    ({"segment": True, "gradients": "no"}, "gradients expects True or False, got 'no'"),
     ({"segment": True, "mask": "m.png"}, "segment=True converts the whole image; it takes no mask"),
 ])
 def test_bad_values_are_value_errors(apple, options, message):
