@@ -999,13 +999,10 @@ bool addResidue(const RgbaImage& image, std::vector<Region>& regions, size_t& fi
 // What a shaded document's SVG costs, roughly, in bytes: a patch written in the compact syntax
 // with its share of the meshes' outline paths, and a flat shape's element and segments.
 double estimatedSvgBytes(const Document& doc) {
-    constexpr double kPerPatch = 120, kPerShape = 40, kPerSegment = 12;
+    constexpr double kPerPatch = 120;
     double bytes = 0;
     for (const GradientMesh& mesh : doc.meshes) bytes += kPerPatch * mesh.patchCount();
-    for (const FlatShape& shape : doc.shapes) {
-        bytes += kPerShape;
-        for (const auto& subpath : shape.subpaths) bytes += kPerSegment * double(subpath.size()) / 3;
-    }
+    for (const FlatShape& shape : doc.shapes) bytes += flatShapeSvgBytes(shape);
     return bytes;
 }
 
@@ -1027,9 +1024,8 @@ void addResidueShapes(Document& doc, const RgbaImage& image, const std::vector<R
         const Vec3 d = 255.0 * (pixelColour(image, p) - painted[p]);
         squaredError += (d.r * d.r + d.g * d.g + d.b * d.b) / 3;
     }
-    const double price = std::max(options.residueMinErrorPerByte,
-                                  options.residuePriceOverAverage * squaredError /
-                                      std::max(1.0, estimatedSvgBytes(doc)));
+    const double price =
+        options.residuePriceOverAverage * squaredError / std::max(1.0, estimatedSvgBytes(doc));
     FlatOptions flat = options.flat;
     flat.curveTolerance *= std::max(1.0, options.convert.maxError / flat.toleranceError);
     std::vector<FlatShape> shapes =

@@ -7,6 +7,7 @@
 #include "converters/colors.h"
 #include "converters/flat_regions.h"
 #include "meshcore/error.h"
+#include "meshcore/render.h"
 
 namespace gm {
 
@@ -156,6 +157,56 @@ size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, s
     return added.size();
 }
 
+namespace {
+
+// `shape` (filled, one colour) drawn over `drawn`, from our render of it alone: the pixels it
+// touches with their new colours, and the squared error it wins back there.
+struct DrawnOver {
+    double gain = 0;
+    std::vector<std::pair<size_t, Vec3>> pixels;
+};
+DrawnOver drawOver(const RgbaImage& image, const std::vector<Vec3>& drawn, const FlatShape& shape) {
+    double x0 = image.width, y0 = image.height, x1 = 0, y1 = 0;
+    for (const auto& subpath : shape.subpaths)
+        for (const Vec2& p : subpath)
+            x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x),
+            y1 = std::max(y1, p.y);
+    const int left = std::max(0, static_cast<int>(std::floor(x0)) - 1);
+    const int top = std::max(0, static_cast<int>(std::floor(y0)) - 1);
+    const int right = std::min(image.width, static_cast<int>(std::ceil(x1)) + 1);
+    const int bottom = std::min(image.height, static_cast<int>(std::ceil(y1)) + 1);
+    DrawnOver out;
+    if (right <= left || bottom <= top) return out;
+    Document alone;
+    alone.width = right - left, alone.height = bottom - top;
+    FlatShape moved = shape;
+    for (auto& subpath : moved.subpaths)
+        for (Vec2& p : subpath) p = p - Vec2{double(left), double(top)};
+    alone.shapes.push_back(std::move(moved));
+    RenderOptions options;
+    options.threads = 1;
+    const RgbaImage cover = renderDocument(alone, options).image;
+    for (int y = top; y < bottom; ++y)
+        for (int x = left; x < right; ++x) {
+            const double a = cover.at(x - left, y - top)[3];
+            if (a <= 0) continue;
+            const size_t p = static_cast<size_t>(y) * image.width + x;
+            const Vec3 now = a * shape.col + (1 - a) * drawn[p], v = pixelColour(image, p);
+            out.gain += squaredError(v, drawn[p]) - squaredError(v, now);
+            out.pixels.push_back({p, now});
+        }
+    return out;
+}
+
+}  // namespace
+
+double flatShapeSvgBytes(const FlatShape& shape) {
+    constexpr double kPerShape = 40, kPerSegment = 12;
+    double bytes = kPerShape;
+    for (const auto& subpath : shape.subpaths) bytes += kPerSegment * double(subpath.size() / 3);
+    return bytes;
+}
+
 std::vector<FlatShape> residueShapes(const RgbaImage& image, const std::vector<Region>& regions,
                                      size_t firstInk, std::vector<Vec3> painted,
                                      double maxError, double errorPerByte,
@@ -165,14 +216,23 @@ std::vector<FlatShape> residueShapes(const RgbaImage& image, const std::vector<R
     const std::vector<uint8_t> inside = insideOneRegion(regions, firstInk, w, h, owner);
     const double base = std::max(maxError, drawnError(image, painted));
     const std::vector<uint8_t> nothingOnTop(static_cast<size_t>(w) * h, 0);
+    std::vector<Vec3> drawn = painted;  // what the shapes kept so far draw over
     std::vector<FlatShape> shapes;
     for (const Blob& blob : missedBlobs(image, inside, painted, base, errorPerByte, options)) {
+        FlatShape shape;
         try {
-            shapes.push_back(traceFlatShape(image, regionOf(blob.pixels, w, h), blob.mean, 0,
-                                            nothingOnTop, flat));
+            shape = traceFlatShape(image, regionOf(blob.pixels, w, h), blob.mean, 0,
+                                   nothingOnTop, flat);
         } catch (const Error&) {
-            // A blob whose traced coverage stays below one half draws nothing: left out.
+            continue;  // its traced coverage stays below one half: it draws nothing
         }
+        // The blob's gain was an estimate over its pixels; its traced, anti-aliased shape is
+        // what a viewer draws, and that must pay too (a blob that mixes two colours traces to
+        // a shape of neither).
+        const DrawnOver over = drawOver(image, drawn, shape);
+        if (over.gain < errorPerByte * flatShapeSvgBytes(shape)) continue;
+        for (const auto& [p, c] : over.pixels) drawn[p] = c;
+        shapes.push_back(std::move(shape));
     }
     return shapes;
 }

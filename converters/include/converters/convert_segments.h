@@ -120,13 +120,10 @@ struct SegmentConvertOptions {
     bool residue = true;
     ResidueOptions residueOptions;
     // With meshes, what the drawn document misses by far becomes flat shapes on top of it
-    // (residueShapes), blobs from 6 pixels on, where each wins back per byte the larger of
-    // residueMinErrorPerByte and residuePriceOverAverage times what the document wins back per
-    // byte on average. Below the floor, what our render promises is not what viewers draw
-    // (their meshes differ from ours by more than the small blobs' gain).
+    // (residueShapes), blobs from 6 pixels on, where each wins back per byte
+    // residuePriceOverAverage times what the document wins back per byte on average.
     ResidueOptions meshResidueOptions{{8, 5, 3}, 6};
     double residuePriceOverAverage = 2;
-    double residueMinErrorPerByte = 100;
 };
 
 struct SegmentConvertReport {

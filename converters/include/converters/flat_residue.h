@@ -40,13 +40,17 @@ size_t addResidueRegions(const RgbaImage& image, std::vector<Region>& regions, s
                          const std::function<Vec3(size_t, size_t)>& paint, double maxError,
                          double errorPerByte, const ResidueOptions& options = {});
 
+// What a filled flat shape adds to an SVG, roughly, in bytes: its element, and its segments.
+double flatShapeSvgBytes(const FlatShape& shape);
+
 // Over regions already drawn (meshes and flat shapes alike; `painted`: the drawing's colour at
 // each pixel, canvas-sized), the blobs it misses, chosen as addResidueRegions chooses them, as
 // flat shapes of their mean colour to draw on top of everything: a highlight or a speck that a
 // mesh would need many patches for. The passes' limits are multiples of the larger of
 // `maxError` and the drawing's own E (a mesh at a small budget misses by more than its
 // target everywhere; its blobs are what it misses by far more than that). Outlines are traced
-// as any flat shape's (traceFlatShape with `flat`); a blob that traces to nothing is left.
+// as any flat shape's (traceFlatShape with `flat`); a blob is left when its traced shape, drawn
+// by our renderer over the drawing, wins back less than errorPerByte per flatShapeSvgBytes.
 std::vector<FlatShape> residueShapes(const RgbaImage& image, const std::vector<Region>& regions,
                                      size_t firstInk, std::vector<Vec3> painted,
                                      double maxError, double errorPerByte,
