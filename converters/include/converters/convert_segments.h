@@ -123,7 +123,7 @@ struct SegmentConvertOptions {
     // (residueShapes), blobs from 6 pixels on, where each wins back per byte
     // residuePriceOverAverage times what the document wins back per byte on average.
     ResidueOptions meshResidueOptions{{8, 5, 3}, 6};
-    double residuePriceOverAverage = 2;
+    double residuePriceOverAverage = 0.5;
 };
 
 struct SegmentConvertReport {
