@@ -335,7 +335,7 @@ private:
     // Whether the patch drawn with interior points `t` differs from the Coons patch of its
     // edges `q` (as read back) by more than the tolerances: positions, and in the compact
     // syntax also colours.
-    bool tensorShows(Vec2 (&q)[4][4], const std::array<Vec2, 4>& t, int c, int r) const {
+    bool tensorShows(const Vec2 (&q)[4][4], const std::array<Vec2, 4>& t, int c, int r) const {
         const Vec2 coons[4] = {coonsInterior(q, false, false), coonsInterior(q, true, false),
                                coonsInterior(q, true, true), coonsInterior(q, false, true)};
         const Vec2 base[4] = {q[0][0], q[3][0], q[3][3], q[0][3]};
@@ -344,9 +344,11 @@ private:
             if (!nearlyEqual(printed(t[k] - base[k], dec_), coons[k] - base[k], tensorTol_))
                 differs = true;
         if (!differs || !syntax_.compact) return differs;
-        q[1][1] = t[0], q[2][1] = t[1], q[2][2] = t[2], q[1][2] = t[3];
+        Vec2 net[4][4];
+        std::copy(&q[0][0], &q[0][0] + 16, &net[0][0]);
+        net[1][1] = t[0], net[2][1] = t[1], net[2][2] = t[2], net[1][2] = t[3];
         const Vec3 colors[4] = {g_.C(c, r), g_.C(c + 1, r), g_.C(c + 1, r + 1), g_.C(c, r + 1)};
-        return tensorColorEffect(q, colors) > kTensorColorTolerance;
+        return tensorColorEffect(net, colors) > kTensorColorTolerance;
     }
 
     // The patch's tensor attribute, unless it would change nothing: the reconstructed control
